@@ -1,0 +1,67 @@
+// The scene as every reader produces it and every solver consumes it: a polygon
+// soup with diffuse materials. Readers go through SceneBuilder, which enforces the
+// invariants listed on Scene.
+#pragma once
+
+#include "core/geometry.h"
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hrad {
+
+struct Material {
+  std::string name;
+  Rgb reflectance = Rgb::Constant(0.5);  ///< diffuse reflectance rho, each channel in [0,1]
+  Rgb emission = Rgb::Zero();            ///< emitted exitance E (power per unit area)
+  [[nodiscard]] bool emits() const { return (emission > 0).any(); }
+};
+
+/// A planar polygon: 3 vertices, or 4 and more when planar and strictly convex.
+struct Face {
+  std::uint32_t first = 0;  ///< index into Scene::indices
+  std::uint32_t count = 0;  ///< number of vertices (>= 3)
+  std::uint32_t material = 0;
+};
+
+struct Camera {
+  Vec3 eye = Vec3::Zero();
+  Vec3 target = Vec3(0, 0, -1);
+  Vec3 up = Vec3(0, 1, 0);
+  double fov_y_deg = 45.0;
+};
+
+/// Invariants (checked by SceneBuilder): every coordinate finite; every face has
+/// positive area, is planar to 1e-3 of its size and convex; every reflectance in
+/// [0,1], every emission finite and >= 0; every face's material exists.
+struct Scene {
+  std::string name;    ///< short name used for output folders ("office", "CornellBox-Original")
+  std::string source;  ///< what was loaded: a path or a builtin spec
+  std::vector<Vec3> vertices;
+  std::vector<std::uint32_t> indices;
+  std::vector<Face> faces;
+  std::vector<Material> materials;
+  std::optional<Camera> camera;
+  std::vector<std::string> warnings;  ///< for the user; each already counts what it is about
+
+  [[nodiscard]] std::size_t polygon_count() const { return faces.size(); }
+  [[nodiscard]] std::vector<Vec3> face_vertices(std::size_t f) const;
+  [[nodiscard]] Vec3 face_normal(std::size_t f) const;
+  [[nodiscard]] double face_area(std::size_t f) const;
+  [[nodiscard]] const Material& face_material(std::size_t f) const {
+    return materials[faces[f].material];
+  }
+  [[nodiscard]] Aabb bounds() const;
+  [[nodiscard]] double total_area() const;
+  [[nodiscard]] std::size_t emitter_count() const;
+  /// True when every reflectance and emission has equal channels.
+  [[nodiscard]] bool is_grey() const;
+  /// A camera looking at the whole scene when none was given: from outside the
+  /// bounding box on the side of its largest face-area axis... see scene.cpp.
+  [[nodiscard]] Camera default_camera() const;
+};
+
+}  // namespace hrad

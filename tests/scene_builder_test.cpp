@@ -1,0 +1,118 @@
+#include "core/scene_builder.h"
+
+#include <gtest/gtest.h>
+
+namespace hrad {
+namespace {
+
+const SourceLoc kHere{"test.obj", 7};
+
+Material grey(double rho, double e = 0) {
+  Material m;
+  m.name = "m";
+  m.reflectance = Rgb::Constant(rho);
+  m.emission = Rgb::Constant(e);
+  return m;
+}
+
+TEST(SceneBuilder, KeepsPlanarConvexQuadAsOnePolygon) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  const std::vector<Vec3> sq = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  b.add_polygon(sq, m, kHere);
+  const Scene s = b.finish("test.obj");
+  ASSERT_EQ(s.faces.size(), 1u);
+  EXPECT_EQ(s.faces[0].count, 4u);
+  EXPECT_DOUBLE_EQ(s.total_area(), 1.0);
+  EXPECT_TRUE(s.warnings.empty());
+}
+
+TEST(SceneBuilder, TriangulatesConcavePolygonPreservingArea) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  // An L shape of area 3.
+  const std::vector<Vec3> l = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+  b.add_polygon(l, m, kHere);
+  const Scene s = b.finish("test.obj");
+  EXPECT_EQ(s.faces.size(), 4u);
+  for (const Face& f : s.faces) EXPECT_EQ(f.count, 3u);
+  EXPECT_NEAR(s.total_area(), 3.0, 1e-12);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("1 non-planar or non-convex"), std::string::npos);
+}
+
+TEST(SceneBuilder, TriangulatesNonPlanarQuad) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  const std::vector<Vec3> bent = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.3}, {0, 1, 0}};
+  b.add_polygon(bent, m, kHere);
+  EXPECT_EQ(b.finish("f").faces.size(), 2u);
+}
+
+TEST(SceneBuilder, DropsAndCountsDegenerateFaces) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  const std::vector<Vec3> ok = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<Vec3> line = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  const std::vector<Vec3> point = {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}};
+  b.add_polygon(ok, m, kHere);
+  b.add_polygon(line, m, kHere);
+  b.add_polygon(point, m, kHere);
+  const Scene s = b.finish("f");
+  EXPECT_EQ(s.faces.size(), 1u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("2 degenerate"), std::string::npos);
+}
+
+TEST(SceneBuilder, RejectsBadVerticesWithFileAndLine) {
+  SceneBuilder b("t", "t");
+  try {
+    b.add_vertex(Vec3(0, std::nan(""), 0), kHere);
+    FAIL() << "NaN accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "test.obj");
+    EXPECT_EQ(e.line(), 7);
+    EXPECT_STREQ(e.what(), "test.obj:7: coordinate is NaN");
+  }
+  EXPECT_THROW(b.add_vertex(Vec3(1e31, 0, 0), kHere), InputError);
+  EXPECT_THROW(b.add_vertex(Vec3(0, 0, -HUGE_VAL), kHere), InputError);
+  EXPECT_NO_THROW(b.add_vertex(Vec3(1e29, 0, 0), kHere));
+}
+
+TEST(SceneBuilder, RejectsReflectanceOutsideUnitInterval) {
+  SceneBuilder b("t", "t");
+  EXPECT_THROW(b.add_material(grey(1.2), kHere), InputError);
+  EXPECT_THROW(b.add_material(grey(-0.1), kHere), InputError);
+  EXPECT_THROW(b.add_material(grey(0.5, -1), kHere), InputError);
+  EXPECT_NO_THROW(b.add_material(grey(1.0), kHere));
+  EXPECT_NO_THROW(b.add_material(grey(0.0), kHere));
+}
+
+TEST(SceneBuilder, RejectsOutOfRangeIndexAndShortFaces) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5), kHere);
+  b.add_vertex(Vec3(0, 0, 0), kHere);
+  b.add_vertex(Vec3(1, 0, 0), kHere);
+  b.add_vertex(Vec3(0, 1, 0), kHere);
+  const std::uint32_t bad[3] = {0, 1, 3};
+  EXPECT_THROW(b.add_polygon(bad, m, kHere), InputError);
+  const std::uint32_t two[2] = {0, 1};
+  EXPECT_THROW(b.add_polygon(two, m, kHere), InputError);
+}
+
+TEST(SceneBuilder, EmptySceneIsAnErrorAndDarkSceneAWarning) {
+  SceneBuilder empty("t", "t");
+  EXPECT_THROW(empty.finish("empty.obj"), InputError);
+
+  SceneBuilder dark("t", "t");
+  const std::vector<Vec3> tri = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  dark.add_polygon(tri, dark.default_material(), kHere);
+  const Scene s = dark.finish("f");
+  EXPECT_EQ(s.emitter_count(), 0u);
+  ASSERT_EQ(s.warnings.size(), 2u);
+  EXPECT_NE(s.warnings[0].find("1 face(s) named no material"), std::string::npos);
+  EXPECT_NE(s.warnings[1].find("no face emits"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hrad
