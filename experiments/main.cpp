@@ -1,1 +1,38 @@
-int main() { return 0; }
+// hrad: the command-line front end. Subcommands live in cmd_*.cpp (see commands.h).
+#include "experiments/commands.h"
+
+#include <fmt/format.h>
+
+#ifndef HRAD_GIT_REVISION
+#define HRAD_GIT_REVISION "unknown"
+#endif
+
+namespace hrad::cli {
+
+std::string git_revision() { return HRAD_GIT_REVISION; }
+
+std::string version_string() { return fmt::format("hrad {} (git {})", kVersion, git_revision()); }
+
+}  // namespace hrad::cli
+
+int main(int argc, char** argv) {
+  using namespace hrad::cli;
+  CommandContext ctx;
+  ctx.argv.assign(argv, argv + argc);
+
+  CLI::App app{"hrad: a testbed for parallel hierarchical radiosity with clustering.", "hrad"};
+  app.set_version_flag("--version", version_string());
+  app.require_subcommand(1);
+  app.footer("Run 'hrad COMMAND --help' for the options of a command.");
+  register_solve(app, ctx);
+  register_experiment(app, ctx);
+  register_scenes(app, ctx);
+  register_topology(app, ctx);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  return ctx.status;
+}

@@ -1,0 +1,85 @@
+// Element and Link: the nodes and edges of the hierarchical radiosity graph.
+//
+// One complete hierarchy covers the scene: clusters (axis-aligned groups of input
+// polygons) over surface elements (an input polygon and, below it, its lazily built
+// quadtree). Children are a pure function of the parent, and every element's id is
+// a hash of its path from the root, so ids, geometry and random numbers do not
+// depend on the order in which refiners happened to subdivide.
+//
+// Concurrency: `children` is published once with a release store after the block
+// is fully built (under the element lock pool); readers acquire it. `links` is
+// only modified under the link lock pool during refinement and read-only during
+// propagation. Radiosities are frozen during refinement.
+#pragma once
+
+#include "core/geometry.h"
+
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace hrad {
+
+struct Element;
+
+/// A link r <- s, stored at the receiver r. 16 bytes.
+struct Link {
+  Element* source = nullptr;
+  float form_factor = 0;  ///< unoccluded F_rs, receiver-area normalised
+  float visibility = 1;   ///< fraction of unblocked rays in [0,1]
+  /// Irradiance at r due to s is transport() * B_s.
+  [[nodiscard]] double transport() const {
+    return static_cast<double>(form_factor) * static_cast<double>(visibility);
+  }
+};
+static_assert(sizeof(Link) == 16, "links must stay small: they dominate memory");
+
+enum class ElementKind : std::uint8_t { Cluster, Surface };
+
+struct Element {
+  std::uint64_t id = 0;  ///< hash of the path from the root (stable across runs)
+  Element* parent = nullptr;
+  std::atomic<Element*> children{nullptr};  ///< contiguous block of child_count
+  std::uint32_t child_count = 0;            ///< valid once children is non-null
+  ElementKind kind = ElementKind::Surface;
+  std::uint8_t depth = 0;       ///< levels below the input polygon (surfaces) or root
+  std::uint16_t nverts = 0;     ///< surfaces: 3, 4, or more (then corners live in ngon)
+  std::uint32_t face = 0;       ///< surfaces: input polygon; clusters: first in face order
+  std::uint32_t face_end = 0;   ///< clusters: one past the last in face order
+  std::uint32_t material = 0;   ///< surfaces only
+  double area = 0;              ///< surface area (clusters: total of member polygons)
+  Vec3 corner[4];               ///< surfaces with nverts <= 4
+  const Vec3* ngon = nullptr;   ///< surfaces with nverts > 4 (top-level polygon only)
+  Vec3 normal = Vec3::Zero();   ///< surfaces: unit normal; clusters: zero
+  Vec3 center = Vec3::Zero();   ///< surfaces: centroid; clusters: area-weighted centroid
+  Aabb box;                     ///< bounds (surfaces too)
+  Rgb rho = Rgb::Zero();        ///< reflectance (clusters: area-weighted average)
+  Rgb emission = Rgb::Zero();   ///< exitance E (clusters: area-weighted average)
+  Rgb B = Rgb::Zero();          ///< radiosity, frozen during refinement
+  Rgb gathered = Rgb::Zero();   ///< irradiance gathered over this element's own links
+  Rgb next = Rgb::Zero();       ///< scratch for the Jacobi update
+  std::vector<Link> links;      ///< links where this element is the receiver
+
+  [[nodiscard]] bool is_cluster() const { return kind == ElementKind::Cluster; }
+  [[nodiscard]] std::span<const Vec3> corners() const {
+    return nverts > 4 ? std::span<const Vec3>(ngon, nverts) : std::span<const Vec3>(corner, nverts);
+  }
+  [[nodiscard]] std::span<Element> child_span() const {
+    Element* c = children.load(std::memory_order_acquire);
+    return c ? std::span<Element>(c, child_count) : std::span<Element>();
+  }
+  /// Radius of the bounding sphere around `center` (a cheap size for near-field tests).
+  [[nodiscard]] double radius() const {
+    return std::max((box.hi - center).norm(), (box.lo - center).norm());
+  }
+};
+
+/// True when a is b or an ancestor of b.
+inline bool contains(const Element* a, const Element* b) {
+  for (const Element* e = b; e != nullptr; e = e->parent)
+    if (e == a) return true;
+  return false;
+}
+
+}  // namespace hrad

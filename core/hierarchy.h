@@ -1,0 +1,77 @@
+// Hierarchy: the complete hierarchy over a scene — clusters built top-down over
+// the input polygons at construction, and below each polygon a quadtree built
+// lazily during refinement (triangles into 4 at edge midpoints; quads and convex
+// n-gons into one quad per corner, through edge midpoints and the centroid).
+//
+// Determinism: the cluster tree is a pure function of the scene (median splits
+// with index tie-breaks), children are a pure function of their parent, and ids
+// hash the path from the root.
+//
+// Threading: subdivide() may be called concurrently; it builds each element's
+// children exactly once (double-checked under a hashed lock) and allocates them
+// from the calling worker's arena.
+#pragma once
+
+#include "core/element.h"
+#include "core/lock_pool.h"
+#include "core/scene.h"
+
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace hrad {
+
+class Hierarchy {
+ public:
+  /// Polygons per cluster below which a cluster's children are its polygons.
+  static constexpr std::uint32_t kClusterLeafSize = 4;
+  /// Surface subdivision stops at this depth below the input polygon whatever
+  /// the area threshold says (4^-24 of the polygon's area).
+  static constexpr int kMaxSurfaceDepth = 24;
+
+  Hierarchy(const Scene& scene, int workers);
+  ~Hierarchy();
+  Hierarchy(const Hierarchy&) = delete;
+  Hierarchy& operator=(const Hierarchy&) = delete;
+
+  [[nodiscard]] Element& root() { return *root_; }
+  [[nodiscard]] const Element& root() const { return *root_; }
+  [[nodiscard]] const Scene& scene() const { return scene_; }
+
+  /// True when `e` has or may get children.
+  [[nodiscard]] static bool can_subdivide(const Element& e) {
+    return e.is_cluster() ? e.child_count > 0 : e.depth < kMaxSurfaceDepth;
+  }
+  /// The children of `e`, creating them (once, whoever races) if needed.
+  std::span<Element> subdivide(Element& e, int worker, LockPool& locks);
+
+  /// A point on the surface of `e` (on a member polygon for clusters, chosen with
+  /// probability proportional to area), from three uniform numbers in [0,1).
+  [[nodiscard]] Vec3 sample_point(const Element& e, double u1, double u2, double u3) const;
+
+  /// Every element, parents before children (a snapshot; call when no refiner runs).
+  [[nodiscard]] std::vector<Element*> elements();
+  [[nodiscard]] std::size_t element_count() const;
+  [[nodiscard]] std::size_t element_bytes() const;
+
+ private:
+  struct Arena;
+  Element* allocate(std::size_t count, int worker);
+  void init_surface(Element& e, std::uint32_t face, Element* parent, std::uint64_t id);
+  void build_cluster(Element& c, std::uint32_t begin, std::uint32_t end, int depth);
+  void finish_cluster(Element& c);
+  [[nodiscard]] Vec3 sample_face(std::uint32_t face, double u1, double u2, double u3) const;
+
+  const Scene& scene_;
+  std::vector<std::uint32_t> order_;        ///< faces in cluster order
+  std::vector<double> prefix_area_;         ///< prefix sums of face areas in order_
+  std::vector<Vec3> ngon_store_;            ///< corners of input polygons with > 4 vertices
+  std::vector<std::unique_ptr<Arena>> arenas_;
+  Element* root_ = nullptr;
+};
+
+/// Mixes a parent id and a child index into the child's id (splitmix64 finaliser).
+std::uint64_t child_id(std::uint64_t parent, std::uint32_t index);
+
+}  // namespace hrad

@@ -1,0 +1,66 @@
+// Reader for Greg Ward's Materials and Geometry Format (MGF 1.1, LBL 1995-96), the
+// lighting-simulation format of RenderPark and Radiance. Everything goes through
+// SceneBuilder; bad input is an InputError naming the file and line.
+//
+// Supported entities and how they map to a Scene:
+// | entity              | handling                                                        |
+// |---------------------|-----------------------------------------------------------------|
+// | # ...               | comment                                                         |
+// | o [name]            | object begin / end: names only (unbalanced ends: counted warning)|
+// | xf [args]           | transform begin (args, see mgf_xform.h, -a arrays included) / end|
+// | i path [args]       | include, path relative to the including file's directory       |
+// |                     | (parse_mgf: to the current directory), with optional transform   |
+// | ies ...             | rejected (IES luminaires are not supported)                    |
+// | c [id [= [tmpl]]]   | colour contexts; unnamed = equal-energy grey                    |
+// | cxy x y             | CIE 1931 chromaticity (x, y > 0, x + y < 1)                     |
+// | cmix w1 c1 ...      | mix of named colours, weights taken as luminances (XYZ sum)     |
+// | cspec, cct          | ignored (counted warning): the colour becomes neutral grey      |
+// | m [id [= [tmpl]]]   | material contexts; unnamed = black two-sided absorber           |
+// | rd, ed              | diffuse reflectance (0..1) / emittance (lm/m^2), with the       |
+// |                     | colour current at that moment; converted as in mgf_color.h      |
+// | sides {1|2}         | checked, not represented (Scene faces have no sidedness)        |
+// | td, rs, ts, ir      | checked, ignored (one counted warning)                          |
+// | v [id [= [tmpl]]]   | vertex contexts; p x y z, n dx dy dz set the current vertex     |
+// | f v1 v2 v3 ...      | polygon (SceneBuilder triangulates concave / non-planar ones)   |
+// | sph cyl cone ring   | tessellated with MgfOptions::segments (see mgf_shapes.h)        |
+// | torus prism         |                                                                 |
+// | anything else       | ignored with a counted warning (the spec's rule for new entities)|
+//
+// Vertices are taken untransformed and transformed when used (MGF's rule). A mirroring
+// transform reverses polygon winding so that surfaces keep facing the mirrored way.
+// Faces before any `m` get SceneBuilder::default_material() (counted warning).
+// The Scene's name is the file's stem; its units are the file's (MGF says metres).
+#pragma once
+
+#include "core/scene.h"
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace hrad {
+
+struct MgfOptions {
+  /// Divisions of a full circle for sph, cyl, cone, ring, torus; in [3, 4096].
+  int segments = 16;
+  /// Deepest include nesting; deeper (e.g. a file including itself) is an InputError.
+  int max_include_depth = 32;
+  /// Largest instance count of one `-a N`, and largest `-i N`.
+  long max_array = 100000;
+  long max_repeat = 1000000;
+  /// Entities executed plus polygons generated, after expanding arrays and includes;
+  /// more is an InputError (guards against exponential include/array blow-up).
+  std::int64_t max_work = 200'000'000;
+};
+
+/// Reads an MGF file. Throws InputError (file, line) on bad input, including a file
+/// that cannot be opened (line 0) and a scene without any polygon.
+Scene read_mgf(const std::string& path, const MgfOptions& options = {});
+
+/// Parses MGF text. `name_for_errors` names it in errors and warnings and gives the
+/// Scene its name; includes resolve relative to the current directory. Throws
+/// std::invalid_argument for options out of range, InputError for bad input.
+Scene parse_mgf(std::string_view text, const std::string& name_for_errors,
+                const MgfOptions& options = {});
+
+}  // namespace hrad

@@ -1,0 +1,52 @@
+// SolverOptions: every knob of a run, one plain struct with defaults. The CLI,
+// the JSON config and `--set key=value` all write into it through options_io.h,
+// which rejects unknown keys by name.
+//
+// | key                 | type   | default      | meaning                                                    |
+// |---------------------|--------|--------------|------------------------------------------------------------|
+// | scheduler           | string | "stack"      | refinement task order (schedulers/: stack, fifo, ...)      |
+// | block_size          | int    | 1            | tasks a refiner takes (and buffers) per scheduler visit     |
+// | threads             | int    | 1            | refiner threads                                            |
+// | oracle              | string | "bf"         | refinement oracle (oracles/: bf, error)                    |
+// | eps                 | double | 1e-4         | oracle threshold, relative to total emitted power          |
+// | min_area            | double | 1e-4         | smallest element, relative to total scene area             |
+// | iterations          | int    | 4            | refinement iterations (the paper uses 4)                   |
+// | visibility_rays     | int    | 4            | rays per link for the visibility estimate (0: no rays)     |
+// | pin                 | string | "none"       | thread pinning (none, compact, scatter, node-round-robin)  |
+// | placement           | string | "first-touch"| memory placement (first-touch, interleave, node0)          |
+// | seed                | uint64 | 1            | mixed into every per-link random number                    |
+// | gather_tolerance    | double | 1e-6         | propagation stops when the estimated remaining change is    |
+// |                     |        |              | below this fraction of the largest radiosity               |
+// | max_gather_sweeps   | int    | 100000       | hard cap on gather + push-pull sweeps per iteration        |
+// | cluster_receiver    | string | "isotropic"  | how a cluster distributes what it gathers: isotropic       |
+// | locks_pool          | int    | 0            | hashed locks per class (0: twice the refiner count)        |
+// | trace               | string | ""           | file to record a task trace to ("" = none)                 |
+// | image_width         | int    | 640          | render.png width in pixels (height from the aspect 4:3)    |
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace hrad {
+
+struct SolverOptions {
+  std::string scheduler = "stack";
+  int block_size = 1;
+  int threads = 1;
+  std::string oracle = "bf";
+  double eps = 1e-4;
+  double min_area = 1e-4;
+  int iterations = 4;
+  int visibility_rays = 4;
+  std::string pin = "none";
+  std::string placement = "first-touch";
+  std::uint64_t seed = 1;
+  double gather_tolerance = 1e-6;
+  int max_gather_sweeps = 100000;
+  std::string cluster_receiver = "isotropic";
+  int locks_pool = 0;
+  std::string trace;
+  int image_width = 640;
+};
+
+}  // namespace hrad

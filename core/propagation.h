@@ -1,0 +1,35 @@
+// Propagation: gather over the links, then push-pull through the hierarchy,
+// repeated (Jacobi) until the radiosity stops changing.
+//
+// Gather:    g_e = sum over e's links of transport * B_source   (irradiance)
+// Push:      H_e = H_parent + g_e                                (top-down)
+// Leaf:      B'  = E + rho * H                                   (per channel)
+// Pull:      B'_e = area-weighted mean of the children's B'      (bottom-up)
+//
+// Stopping: with c_k the largest change of a sweep relative to the largest
+// radiosity and q the observed contraction c_k / c_{k-1}, the remaining change of
+// a geometric series is about c_k q / (1 - q); the loop stops when that is below
+// `tolerance` (or c_k is 0, or the sweep cap is hit, or the iteration diverges).
+#pragma once
+
+#include "core/element.h"
+
+#include <vector>
+
+namespace hrad {
+
+struct PropagationResult {
+  int sweeps = 0;
+  double last_change = 0;  ///< relative change of the last sweep
+  bool converged = false;
+  bool diverged = false;   ///< the change grew for many sweeps (row sums above 1)
+};
+
+/// `elements` must list parents before children (Hierarchy::elements()).
+PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
+                            int max_sweeps, int threads);
+
+/// One Jacobi sweep (gather + push-pull), B <- B'; returns the relative change.
+double propagation_sweep(const std::vector<Element*>& elements, int threads);
+
+}  // namespace hrad

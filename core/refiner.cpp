@@ -1,0 +1,227 @@
+#include "core/refiner.h"
+
+#include "core/hierarchy.h"
+#include "core/transport.h"
+
+#include <omp.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+namespace hrad {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+}  // namespace
+
+struct alignas(64) Refiner::Worker {
+  int id = 0;
+  RefineCounters c;
+};
+
+Refiner::Refiner(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
+                 RefineLimits limits, LockPool& element_locks, LockPool& link_locks)
+    : hierarchy_(hierarchy),
+      transport_(transport),
+      oracle_(oracle),
+      limits_(limits),
+      element_locks_(element_locks),
+      link_locks_(link_locks) {}
+
+bool Refiner::splittable(const Element& e) const {
+  if (e.is_cluster()) return e.child_count > 0;
+  return e.area > limits_.min_area && Hierarchy::can_subdivide(e);
+}
+
+// Which element to refine when both could be: the larger one. Surfaces compare
+// areas; when a cluster is involved, bounding-sphere radii.
+static bool refine_receiver(const Element& r, const Element& s) {
+  if (!r.is_cluster() && !s.is_cluster()) return r.area >= s.area;
+  return r.radius() >= s.radius();
+}
+
+void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
+  Element& r = *task.receiver;
+  Element& s = *task.source;
+  ++w.c.tasks;
+  const int k = transport_.rays_per_link();
+
+  bool must_refine = false;
+  PairClass pc = PairClass::Regular;
+  LinkEstimate est{&r, &s, task.form_factor, task.visibility, 0};
+  if (!task.evaluated) {
+    pc = transport_.classify(r, s);
+    switch (pc) {
+      case PairClass::Cull:
+        ++w.c.culled;
+        w.c.rays_skipped += static_cast<std::uint64_t>(k);
+        return;
+      case PairClass::ReceiverInside:
+      case PairClass::SourceInside:
+      case PairClass::NearField:
+        must_refine = true;
+        break;
+      case PairClass::Regular:
+        break;
+    }
+  }
+  // Children tasks inherit a share of the parent's error as their priority.
+  double error = 0;
+  bool accept = false;
+  bool split_r = false;
+  if (must_refine) {
+    const bool can_r = splittable(r), can_s = splittable(s);
+    if (pc == PairClass::ReceiverInside) {
+      split_r = false;  // s contains r: open s
+      accept = !can_s;
+    } else if (pc == PairClass::SourceInside) {
+      split_r = true;
+      accept = !can_r;
+    } else {
+      split_r = can_r && (!can_s || refine_receiver(r, s));
+      accept = !can_r && !can_s;
+    }
+    if (accept && (pc == PairClass::ReceiverInside || pc == PairClass::SourceInside)) {
+      // An element overlapping itself that cannot be opened carries no transport.
+      ++w.c.culled;
+      return;
+    }
+    if (accept) {
+      est.form_factor = transport_.form_factor(r, s);
+      est.visibility = est.form_factor > 0 ? transport_.visibility(r, s, w.c.rays_cast) : 0.0;
+    }
+    error = task.priority;
+  } else {
+    if (!task.evaluated) {
+      est.form_factor = transport_.form_factor(r, s);
+      if (est.form_factor <= 0) {
+        ++w.c.culled;
+        w.c.rays_skipped += static_cast<std::uint64_t>(k);
+        return;
+      }
+      est.visibility = transport_.visibility(r, s, w.c.rays_cast);
+    }
+    if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
+    const Verdict v = oracle_.judge(est, OracleThresholds{limits_.eps_power});
+    error = v.error;
+    const bool can_r = splittable(r), can_s = splittable(s);
+    if (v.decision == Decision::Accept || (!can_r && !can_s)) {
+      accept = true;
+    } else {
+      split_r = can_r && (!can_s || refine_receiver(r, s));
+    }
+  }
+
+  if (accept) {
+    {
+      auto guard = link_locks_.lock(&r, w.id);
+      r.links.push_back(Link{&s, static_cast<float>(est.form_factor),
+                             static_cast<float>(est.visibility)});
+    }
+    if (task.evaluated) ++w.c.links_kept; else ++w.c.links_created;
+    return;
+  }
+  Element& split = split_r ? r : s;
+  const std::span<Element> kids =
+      split.is_cluster() ? split.child_span() : hierarchy_.subdivide(split, w.id, element_locks_);
+  const float child_priority = static_cast<float>(error / std::max<std::size_t>(kids.size(), 1));
+  for (Element& c : kids) {
+    Task t;
+    t.receiver = split_r ? &c : &r;
+    t.source = split_r ? &s : &c;
+    t.priority = child_priority;
+    out.push_back(t);
+  }
+}
+
+RefineCounters Refiner::run(IScheduler& scheduler, const std::vector<Task>& initial, int threads,
+                            int block_size) {
+  std::atomic<std::int64_t> pending{static_cast<std::int64_t>(initial.size())};
+  std::atomic<int> busy{0};
+  std::atomic<int> peak{0};
+  scheduler.submit(0, initial);
+  std::vector<Worker> workers(static_cast<std::size_t>(threads));
+
+#pragma omp parallel num_threads(threads)
+  {
+    Worker& w = workers[static_cast<std::size_t>(omp_get_thread_num())];
+    w.id = omp_get_thread_num();
+    std::vector<Task> block(static_cast<std::size_t>(block_size));
+    std::vector<Task> out;
+    out.reserve(static_cast<std::size_t>(block_size) * 8);
+    Clock::time_point idle_since = Clock::now();
+    bool idle = false;
+    for (;;) {
+      const std::size_t n = scheduler.take(w.id, block);
+      if (n == 0) {
+        if (pending.load(std::memory_order_acquire) == 0) break;
+        if (!idle) {
+          idle = true;
+          idle_since = Clock::now();
+        }
+        std::this_thread::yield();
+        continue;
+      }
+      if (idle) {
+        w.c.idle_s += seconds_since(idle_since);
+        idle = false;
+      }
+      const int now_busy = busy.fetch_add(1, std::memory_order_relaxed) + 1;
+      int seen = peak.load(std::memory_order_relaxed);
+      while (now_busy > seen && !peak.compare_exchange_weak(seen, now_busy)) {
+      }
+      const auto t0 = Clock::now();
+      for (std::size_t i = 0; i < n; ++i) process(block[i], w, out);
+      if (!out.empty()) {
+        pending.fetch_add(static_cast<std::int64_t>(out.size()), std::memory_order_acq_rel);
+        scheduler.submit(w.id, out);
+        out.clear();
+      }
+      w.c.busy_s += seconds_since(t0);
+      busy.fetch_sub(1, std::memory_order_relaxed);
+      pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel);
+    }
+    if (idle) w.c.idle_s += seconds_since(idle_since);
+  }
+
+  RefineCounters total;
+  for (const Worker& w : workers) {
+    total.tasks += w.c.tasks;
+    total.links_created += w.c.links_created;
+    total.links_kept += w.c.links_kept;
+    total.culled += w.c.culled;
+    total.rays_cast += w.c.rays_cast;
+    total.rays_skipped += w.c.rays_skipped;
+    total.busy_s += w.c.busy_s;
+    total.idle_s += w.c.idle_s;
+  }
+  total.peak_parallelism = peak.load();
+  return total;
+}
+
+std::vector<Task> Refiner::reload_links(const std::vector<Element*>& elements) {
+  std::size_t n = 0;
+  for (const Element* e : elements) n += e->links.size();
+  std::vector<Task> tasks;
+  tasks.reserve(n);
+  for (Element* e : elements) {
+    for (const Link& l : e->links) {
+      Task t;
+      t.receiver = e;
+      t.source = l.source;
+      t.form_factor = l.form_factor;
+      t.visibility = l.visibility;
+      t.priority = static_cast<float>(reflected_power_scale(*e, *l.source) * l.form_factor);
+      t.evaluated = true;
+      tasks.push_back(t);
+    }
+    std::vector<Link>().swap(e->links);
+  }
+  return tasks;
+}
+
+}  // namespace hrad

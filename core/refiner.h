@@ -1,0 +1,70 @@
+// Refiner: the refinement stage of one iteration. `threads` refiners (an OpenMP
+// team) take blocks of tasks from the scheduler, classify and estimate each
+// candidate link, ask the oracle, and either store the link at its receiver or
+// replace it by links to or from the children of the element to refine. The tasks
+// a refiner creates are buffered and submitted after its block (the paper's
+// blocking, §3.5; with block size 1 this is plain task-at-a-time scheduling).
+//
+// Termination: `pending` counts tasks submitted and not yet finished. A refiner
+// submits a block's children before retiring the block, so pending reaches zero
+// only when no task is queued and none is in flight.
+#pragma once
+
+#include "core/element.h"
+#include "core/lock_pool.h"
+#include "oracles/oracle.h"
+#include "schedulers/scheduler.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace hrad {
+
+class Hierarchy;
+class Transport;
+
+struct RefineLimits {
+  double eps_power = 0;  ///< oracle threshold in power units
+  double min_area = 0;   ///< absolute: surfaces smaller than this are not split
+};
+
+/// What one refinement stage did, summed over refiners.
+struct RefineCounters {
+  std::uint64_t tasks = 0;
+  std::uint64_t links_created = 0;  ///< accepted links that were not links before
+  std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
+  std::uint64_t culled = 0;         ///< pairs that cannot exchange light
+  std::uint64_t rays_cast = 0;
+  std::uint64_t rays_skipped = 0;   ///< rays not cast thanks to culling
+  double busy_s = 0;                ///< summed over refiners
+  double idle_s = 0;                ///< summed over refiners: waiting for tasks
+  int peak_parallelism = 0;         ///< most refiners busy at once
+};
+
+class Refiner {
+ public:
+  Refiner(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
+          RefineLimits limits, LockPool& element_locks, LockPool& link_locks);
+
+  /// Runs one refinement stage from `initial` tasks to completion.
+  RefineCounters run(IScheduler& scheduler, const std::vector<Task>& initial, int threads,
+                     int block_size);
+
+  /// Tasks for the next iteration: every stored link, removed from its receiver
+  /// (call between stages only). Reloaded tasks carry their F and visibility.
+  static std::vector<Task> reload_links(const std::vector<Element*>& elements);
+
+ private:
+  struct Worker;
+  void process(const Task& task, Worker& w, std::vector<Task>& out);
+  [[nodiscard]] bool splittable(const Element& e) const;
+
+  Hierarchy& hierarchy_;
+  const Transport& transport_;
+  const IOracle& oracle_;
+  RefineLimits limits_;
+  LockPool& element_locks_;
+  LockPool& link_locks_;
+};
+
+}  // namespace hrad

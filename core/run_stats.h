@@ -1,0 +1,53 @@
+// What a run measures, per refinement iteration and in total. Field names are
+// the keys of stats.json (see README, "Result files"); times in seconds, sizes in
+// bytes.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hrad {
+
+struct IterationStats {
+  int iteration = 0;             ///< 1-based
+  double refine_wall_s = 0;      ///< wall time of the refinement stage
+  double refine_cpu_s = 0;       ///< busy time summed over refiners (paper, Figure 4)
+  double propagate_wall_s = 0;   ///< wall time of gather + push-pull
+  std::uint64_t links_created = 0;  ///< links created in this iteration (not re-accepted ones)
+  std::uint64_t links = 0;          ///< links alive at the end of the iteration
+  std::uint64_t elements = 0;       ///< elements (clusters + surfaces) alive at the end
+  std::map<std::string, std::uint64_t> bytes;  ///< by structure: "elements", "links", ...
+  std::uint64_t peak_rss_bytes = 0;
+  std::uint64_t tasks = 0;          ///< tasks executed by refiners
+  std::uint64_t scheduler_ops = 0;  ///< take + submit calls on the scheduler
+  std::map<std::string, double> lock_wait_s;  ///< by lock class: "scheduler", "element", "link"
+  double idle_s = 0;                ///< refiner time spent waiting for tasks
+  std::uint64_t rays_cast = 0;
+  std::uint64_t rays_skipped = 0;   ///< visibility queries answered without rays
+  int gather_sweeps = 0;
+  double max_change = 0;            ///< relative radiosity change of the last sweep
+};
+
+struct RunTotals {
+  double wall_s = 0;
+  double refine_wall_s = 0;
+  double refine_cpu_s = 0;
+  std::uint64_t links = 0;
+  std::uint64_t elements = 0;
+  std::uint64_t rays_cast = 0;
+  std::uint64_t rays_skipped = 0;
+  std::uint64_t peak_rss_bytes = 0;
+};
+
+struct RunStats {
+  std::vector<IterationStats> iterations;
+  RunTotals totals;
+  std::vector<std::string> warnings;
+};
+
+/// Peak resident set size of this process so far (from getrusage), in bytes.
+std::uint64_t peak_rss_bytes();
+
+}  // namespace hrad

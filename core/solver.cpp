@@ -1,0 +1,264 @@
+#include "core/solver.h"
+
+#include "core/form_factor.h"
+#include "core/hierarchy.h"
+#include "core/lock_pool.h"
+#include "core/propagation.h"
+#include "core/ray_scene.h"
+#include "core/refiner.h"
+#include "core/transport.h"
+#include "oracles/oracle.h"
+#include "schedulers/scheduler.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace hrad {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+}  // namespace
+
+struct Solver::Impl {
+  const Scene& scene;
+  SolverOptions options;
+  ProgressFn progress;
+  RayScene rays;
+  Hierarchy hierarchy;
+  Transport transport;
+  std::unique_ptr<IOracle> oracle;
+  double emitted_power = 0;  ///< sum over faces of area x largest emission channel
+  double total_area = 0;
+
+  Impl(const Scene& s, const SolverOptions& o, ProgressFn p)
+      : scene(s),
+        options(o),
+        progress(std::move(p)),
+        rays(RayScene::from_scene(s)),
+        hierarchy(s, o.threads),
+        transport(hierarchy, rays, o.visibility_rays, o.seed),
+        oracle(make_oracle(o.oracle)) {
+    for (std::size_t f = 0; f < s.faces.size(); ++f) {
+      const double a = s.face_area(f);
+      total_area += a;
+      emitted_power += a * s.face_material(f).emission.maxCoeff();
+    }
+  }
+};
+
+Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress) {
+  if (options.threads < 1) throw std::invalid_argument("threads must be at least 1");
+  if (options.block_size < 1) throw std::invalid_argument("block_size must be at least 1");
+  if (options.iterations < 1) throw std::invalid_argument("iterations must be at least 1");
+  if (!(options.eps > 0)) throw std::invalid_argument("eps must be positive");
+  if (!(options.min_area >= 0)) throw std::invalid_argument("min_area must be >= 0");
+  if (options.visibility_rays < 0) throw std::invalid_argument("visibility_rays must be >= 0");
+  // Names are checked before the (possibly long) hierarchy build.
+  make_scheduler(options.scheduler, SchedulerConfig{options.threads, options.block_size});
+  make_oracle(options.oracle);
+  impl_ = std::make_unique<Impl>(scene, options, std::move(progress));
+}
+
+Solver::~Solver() = default;
+
+RunStats Solver::run() {
+  Impl& m = *impl_;
+  const SolverOptions& o = m.options;
+  RunStats stats;
+  const auto run_start = Clock::now();
+  const int pool = o.locks_pool > 0 ? o.locks_pool : 2 * o.threads;
+  LockPool element_locks(pool, o.threads);
+  LockPool link_locks(pool, o.threads);
+  const RefineLimits limits{o.eps * m.emitted_power, o.min_area * m.total_area};
+  Refiner refiner(m.hierarchy, m.transport, *m.oracle, limits, element_locks, link_locks);
+
+  if (m.emitted_power <= 0) {
+    stats.warnings.push_back("no face emits light: the solution is zero and nothing was refined");
+  }
+  std::vector<Task> tasks;
+  if (m.emitted_power > 0) tasks.push_back(Task{&m.hierarchy.root(), &m.hierarchy.root()});
+
+  for (int it = 1; it <= o.iterations && m.emitted_power > 0; ++it) {
+    IterationStats is;
+    is.iteration = it;
+    const double base = static_cast<double>(it - 1) / o.iterations;
+    if (m.progress) m.progress(fmt::format("iteration {}/{}: refine", it, o.iterations), base);
+    element_locks.reset_counters();
+    link_locks.reset_counters();
+    auto scheduler = make_scheduler(o.scheduler, SchedulerConfig{o.threads, o.block_size});
+    auto t0 = Clock::now();
+    const RefineCounters rc = refiner.run(*scheduler, tasks, o.threads, o.block_size);
+    is.refine_wall_s = since(t0);
+    std::vector<Task>().swap(tasks);
+    is.refine_cpu_s = rc.busy_s;
+    is.idle_s = rc.idle_s;
+    is.tasks = rc.tasks;
+    is.links_created = rc.links_created;
+    is.rays_cast = rc.rays_cast;
+    is.rays_skipped = rc.rays_skipped;
+    const SchedulerCounters sc = scheduler->counters();
+    is.scheduler_ops = sc.takes + sc.empty_takes + sc.submits;
+    is.lock_wait_s["scheduler"] = sc.lock_wait_s;
+    is.lock_wait_s["element"] = element_locks.wait_seconds();
+    is.lock_wait_s["link"] = link_locks.wait_seconds();
+
+    if (m.progress) m.progress(fmt::format("iteration {}/{}: propagate", it, o.iterations),
+                               base + 0.8 / o.iterations);
+    t0 = Clock::now();
+    std::vector<Element*> elements = m.hierarchy.elements();
+    const PropagationResult pr =
+        propagate(elements, o.gather_tolerance, o.max_gather_sweeps, o.threads);
+    is.propagate_wall_s = since(t0);
+    is.gather_sweeps = pr.sweeps;
+    is.max_change = pr.last_change;
+    if (pr.diverged)
+      stats.warnings.push_back(fmt::format(
+          "iteration {}: propagation diverged after {} sweeps (transport row sums above 1)", it,
+          pr.sweeps));
+    else if (!pr.converged)
+      stats.warnings.push_back(fmt::format(
+          "iteration {}: propagation stopped at the cap of {} sweeps (change {:.3g})", it,
+          pr.sweeps, pr.last_change));
+
+    std::uint64_t links = 0, link_bytes = 0;
+    for (const Element* e : elements) {
+      links += e->links.size();
+      link_bytes += e->links.capacity() * sizeof(Link);
+    }
+    is.links = links;
+    is.elements = elements.size();
+    is.bytes["elements"] = m.hierarchy.element_bytes();
+    is.bytes["links"] = link_bytes;
+    is.peak_rss_bytes = peak_rss_bytes();
+    stats.iterations.push_back(is);
+    if (it < o.iterations) tasks = Refiner::reload_links(elements);
+  }
+  if (m.progress) m.progress("done", 1.0);
+
+  RunTotals& t = stats.totals;
+  t.wall_s = since(run_start);
+  for (const IterationStats& is : stats.iterations) {
+    t.refine_wall_s += is.refine_wall_s;
+    t.refine_cpu_s += is.refine_cpu_s;
+    t.rays_cast += is.rays_cast;
+    t.rays_skipped += is.rays_skipped;
+  }
+  if (!stats.iterations.empty()) {
+    t.links = stats.iterations.back().links;
+    t.elements = stats.iterations.back().elements;
+  } else {
+    t.elements = m.hierarchy.element_count();
+  }
+  t.peak_rss_bytes = peak_rss_bytes();
+  return stats;
+}
+
+RenderMesh Solver::render_mesh() const {
+  // Leaves of every input polygon; each vertex's radiosity is the mean of the
+  // leaves of the same input polygon that share it (so there is no smoothing
+  // across creases between different polygons).
+  RenderMesh mesh;
+  struct Key {
+    std::uint32_t face;
+    std::int64_t x, y, z;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = k.face;
+      for (std::int64_t v : {k.x, k.y, k.z}) h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(v);
+      return static_cast<std::size_t>(h ^ (h >> 29));
+    }
+  };
+  const double q = 1e-7 * impl_->scene.bounds().diagonal();
+  std::unordered_map<Key, std::uint32_t, KeyHash> index;
+  std::vector<double> weight;
+  auto vertex = [&](std::uint32_t face, const Vec3& p, const Element& leaf) {
+    const Key k{face, std::llround(p.x() / q), std::llround(p.y() / q), std::llround(p.z() / q)};
+    auto [it, fresh] = index.try_emplace(k, static_cast<std::uint32_t>(mesh.positions.size()));
+    if (fresh) {
+      mesh.positions.push_back(p);
+      mesh.radiosity.push_back(Rgb::Zero());
+      mesh.reflectance.push_back(leaf.rho);
+      weight.push_back(0);
+    }
+    mesh.radiosity[it->second] += leaf.area * leaf.B;
+    weight[it->second] += leaf.area;
+    return it->second;
+  };
+  std::vector<const Element*> stack{&impl_->hierarchy.root()};
+  while (!stack.empty()) {
+    const Element* e = stack.back();
+    stack.pop_back();
+    const auto kids = e->child_span();
+    if (!kids.empty()) {
+      for (const Element& k : kids) stack.push_back(&k);
+      continue;
+    }
+    if (e->is_cluster()) continue;
+    const auto c = e->corners();
+    std::vector<std::uint32_t> ids;
+    for (const Vec3& p : c) ids.push_back(vertex(e->face, p, *e));
+    if (ids.size() <= 4) {
+      std::array<std::uint32_t, 4> poly{ids[0], ids[1], ids[2],
+                                        ids.size() == 4 ? ids[3] : RenderMesh::kNoVertex};
+      mesh.polys.push_back(poly);
+    } else {
+      for (std::size_t i = 1; i + 1 < ids.size(); ++i)
+        mesh.polys.push_back({ids[0], ids[i], ids[i + 1], RenderMesh::kNoVertex});
+    }
+  }
+  for (std::size_t i = 0; i < mesh.radiosity.size(); ++i)
+    if (weight[i] > 0) mesh.radiosity[i] /= weight[i];
+  return mesh;
+}
+
+std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
+  // Final gather: irradiance = sum over leaf surfaces of B_s x F(point -> s) x V,
+  // with the exact point-to-polygon form factor and visibility from rays whose
+  // random numbers hash the probe index and the element id.
+  const Impl& m = *impl_;
+  std::vector<const Element*> leaves;
+  std::vector<const Element*> stack{&m.hierarchy.root()};
+  while (!stack.empty()) {
+    const Element* e = stack.back();
+    stack.pop_back();
+    const auto kids = e->child_span();
+    if (!kids.empty()) {
+      for (const Element& k : kids) stack.push_back(&k);
+    } else if (!e->is_cluster()) {
+      leaves.push_back(e);
+    }
+  }
+  const int k = std::max(m.options.visibility_rays, 8);
+  std::vector<Rgb> out(probes.size(), Rgb::Zero());
+  const auto n = static_cast<std::ptrdiff_t>(probes.size());
+#pragma omp parallel for num_threads(m.options.threads) schedule(dynamic, 1)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const Probe& pr = probes[static_cast<std::size_t>(i)];
+    Rgb sum = Rgb::Zero();
+    for (const Element* s : leaves) {
+      if ((s->B <= 0).all()) continue;
+      const double f = point_to_polygon_ff(pr.p, pr.n, s->corners());
+      if (f <= 0) continue;
+      int open = 0;
+      const std::uint64_t key = child_id(s->id, static_cast<std::uint32_t>(i) ^ 0x5EEDu) ^ m.options.seed;
+      for (int j = 0; j < k; ++j) {
+        const auto b = static_cast<std::uint64_t>(3 * j);
+        const Vec3 q = m.hierarchy.sample_point(*s, hashed_uniform(key, b), hashed_uniform(key, b + 1),
+                                                hashed_uniform(key, b + 2));
+        if (!m.rays.occluded(pr.p, q)) ++open;
+      }
+      sum += f * (static_cast<double>(open) / k) * s->B;
+    }
+    out[static_cast<std::size_t>(i)] = sum;
+  }
+  return out;
+}
+
+}  // namespace hrad

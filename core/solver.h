@@ -1,0 +1,47 @@
+// Solver: the hierarchical radiosity run as the CLI and experiments see it.
+// It owns the hierarchy built over a Scene, runs `options.iterations` refinement
+// iterations (refine all links through the chosen scheduler and oracle, then
+// propagate), and exposes the solution for the result files.
+#pragma once
+
+#include "core/options.h"
+#include "core/probes.h"
+#include "core/render_mesh.h"
+#include "core/run_stats.h"
+#include "core/scene.h"
+
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+
+namespace hrad {
+
+/// Called as work progresses: a short phase label ("iteration 2: refine") and a
+/// fraction in [0,1] of the whole run. Called from the solver's own thread only.
+using ProgressFn = std::function<void(const std::string& phase, double fraction)>;
+
+class Solver {
+ public:
+  /// Throws std::invalid_argument for an unknown scheduler/oracle name or an option
+  /// out of range (the message names the option). The scene must outlive the solver.
+  Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress = {});
+  ~Solver();
+  Solver(const Solver&) = delete;
+  Solver& operator=(const Solver&) = delete;
+
+  /// Runs every iteration; returns what was measured.
+  RunStats run();
+
+  /// Leaf elements with vertex-averaged radiosity, for render.png and solution.ply.
+  [[nodiscard]] RenderMesh render_mesh() const;
+  /// Irradiance (W per unit area) at each probe by a final gather over the solved
+  /// radiosity, independent of the mesh at the probe.
+  [[nodiscard]] std::vector<Rgb> probe_irradiance(std::span<const Probe> probes) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hrad

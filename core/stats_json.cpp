@@ -1,0 +1,101 @@
+#include "core/stats_json.h"
+
+#include "core/atomic_file.h"
+
+#include <cmath>
+#include <ostream>
+
+namespace hrad {
+namespace {
+
+// JSON has no NaN or infinity; nlohmann would write them as null anyway, but say so.
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+
+template <class V>
+nlohmann::json json_map(const std::map<std::string, V>& m) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [k, v] : m) {
+    if constexpr (std::is_floating_point_v<V>)
+      j[k] = number(v);
+    else
+      j[k] = v;
+  }
+  return j;
+}
+
+nlohmann::json vec3(const Vec3& v) { return {number(v.x()), number(v.y()), number(v.z())}; }
+
+nlohmann::json iteration_json(const IterationStats& it) {
+  return {
+      {"iteration", it.iteration},
+      {"refine_wall_s", number(it.refine_wall_s)},
+      {"refine_cpu_s", number(it.refine_cpu_s)},
+      {"propagate_wall_s", number(it.propagate_wall_s)},
+      {"links_created", it.links_created},
+      {"links", it.links},
+      {"elements", it.elements},
+      {"bytes", json_map(it.bytes)},
+      {"peak_rss_bytes", it.peak_rss_bytes},
+      {"tasks", it.tasks},
+      {"scheduler_ops", it.scheduler_ops},
+      {"lock_wait_s", json_map(it.lock_wait_s)},
+      {"idle_s", number(it.idle_s)},
+      {"rays_cast", it.rays_cast},
+      {"rays_skipped", it.rays_skipped},
+      {"gather_sweeps", it.gather_sweeps},
+      {"max_change", number(it.max_change)},
+  };
+}
+
+}  // namespace
+
+nlohmann::json stats_to_json(const RunStats& stats) {
+  nlohmann::json iterations = nlohmann::json::array();
+  for (const IterationStats& it : stats.iterations) iterations.push_back(iteration_json(it));
+  const RunTotals& t = stats.totals;
+  return {
+      {"iterations", std::move(iterations)},
+      {"totals",
+       {
+           {"wall_s", number(t.wall_s)},
+           {"refine_wall_s", number(t.refine_wall_s)},
+           {"refine_cpu_s", number(t.refine_cpu_s)},
+           {"links", t.links},
+           {"elements", t.elements},
+           {"rays_cast", t.rays_cast},
+           {"rays_skipped", t.rays_skipped},
+           {"peak_rss_bytes", t.peak_rss_bytes},
+       }},
+      {"warnings", stats.warnings},
+  };
+}
+
+nlohmann::json scene_summary_json(const Scene& scene) {
+  Rgb power = Rgb::Zero();
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    power += scene.face_material(f).emission * scene.face_area(f);
+  const Aabb b = scene.bounds();
+  nlohmann::json bounds = nullptr;
+  if (!b.empty()) bounds = {{"lo", vec3(b.lo)}, {"hi", vec3(b.hi)}};
+  return {
+      {"name", scene.name},
+      {"source", scene.source},
+      {"polygons", scene.polygon_count()},
+      {"vertices", scene.vertices.size()},
+      {"materials", scene.materials.size()},
+      {"emitters", scene.emitter_count()},
+      {"total_area", number(scene.total_area())},
+      {"emitted_power", {number(power[0]), number(power[1]), number(power[2])}},
+      {"bounds", std::move(bounds)},
+      {"grey", scene.is_grey()},
+      {"warnings", scene.warnings},
+  };
+}
+
+void write_json_atomically(const std::filesystem::path& path, const nlohmann::json& j) {
+  // Invalid UTF-8 (a file name or warning taken from the input) is replaced, not fatal.
+  write_file_atomically(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+                                  "\n");
+}
+
+}  // namespace hrad

@@ -1,0 +1,293 @@
+// `hrad solve SCENE [options]`: load a scene, resolve the options, run the Solver and
+// write the result files.
+//
+// Order of events, chosen so that bad input never leaves an output folder behind:
+//   1. options: defaults < --config FILE < explicit flags < --set key=value; validate;
+//   2. the scene (and the --probes file): InputError -> "hrad: <file:line: what>";
+//   3. the Solver is constructed (an unknown scheduler or oracle is reported here);
+//   every failure so far exits with status 1 and creates nothing. Then
+//   4. the output folder is created (--out DIR, default results/<scene>-<time>/);
+//   5. the Solver runs with a progress line on terminals;
+//   6. solution.ply, render.png (or --image FILE), probes.csv, and last stats.json,
+//      each written atomically. stats.json lists the files actually written and, if
+//      one failed, the error. A run that fails before writing anything removes the
+//      folder if it created it.
+#include "core/input_error.h"
+#include "core/options_io.h"
+#include "core/ply_writer.h"
+#include "core/probes.h"
+#include "core/progress.h"
+#include "core/render.h"
+#include "core/scene_loader.h"
+#include "core/solver.h"
+#include "core/stats_json.h"
+#include "core/topology.h"
+#include "experiments/commands.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <ctime>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+namespace hrad::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The flags that set one SolverOptions key each. Their help text comes from the key
+// table (core/options_io.cpp) plus the default, so the two cannot drift apart.
+struct OptionFlag {
+  const char* flag;
+  const char* key;
+  const char* value_name;
+};
+constexpr OptionFlag kOptionFlags[] = {
+    {"--scheduler", "scheduler", "NAME"}, {"--block-size", "block_size", "N"},
+    {"--threads", "threads", "N"},        {"--oracle", "oracle", "NAME"},
+    {"--eps", "eps", "X"},                {"--min-area", "min_area", "X"},
+    {"--iterations", "iterations", "N"},  {"--pin", "pin", "POLICY"},
+    {"--placement", "placement", "POLICY"}, {"--seed", "seed", "N"},
+};
+
+struct SolveArgs {
+  std::string scene;
+  std::string config, probes, image, out;
+  std::vector<std::string> sets;
+  bool quiet = false;
+  std::map<std::string, std::string> flag_values;  ///< key -> text, for flags given
+  std::map<std::string, CLI::Option*> flag_options;
+};
+
+struct Failure {
+  std::string message;
+};
+
+SolverOptions resolve_options(const SolveArgs& a) {
+  SolverOptions o;
+  if (!a.config.empty()) {
+    std::ifstream in(a.config);
+    if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the config file", a.config));
+    std::stringstream text;
+    text << in.rdbuf();
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(text.str(), nullptr, true, /*ignore_comments=*/true);
+    } catch (const nlohmann::json::parse_error& e) {
+      throw std::invalid_argument(fmt::format("{}: not valid JSON: {}", a.config, e.what()));
+    }
+    apply_options_json(o, j, a.config);
+  }
+  for (const OptionFlag& f : kOptionFlags)
+    if (a.flag_options.at(f.key)->count() > 0)
+      apply_option_value(o, f.key, a.flag_values.at(f.key), f.flag);
+  for (const std::string& s : a.sets) apply_option_assignment(o, s);
+  validate_options(o);
+  return o;
+}
+
+std::string local_time(const char* format) {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  ::localtime_r(&now, &tm);
+  char buf[64];
+  return std::strftime(buf, sizeof buf, format, &tm) > 0 ? buf : "";
+}
+
+// results/<scene>-<YYYYmmdd-HHMMSS>/, made unique with -2, -3 ... when taken.
+fs::path default_out_dir(const Scene& scene) {
+  std::string name = scene.name.empty() ? "scene" : scene.name;
+  for (char& c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.'))
+      c = '_';
+  const fs::path base = fs::path("results") / (name + "-" + local_time("%Y%m%d-%H%M%S"));
+  fs::path dir = base;
+  for (int i = 2; fs::exists(dir); ++i) dir = base.string() + "-" + std::to_string(i);
+  return dir;
+}
+
+bool is_empty_dir(const fs::path& dir) {
+  std::error_code ec;
+  return fs::is_directory(dir, ec) && fs::is_empty(dir, ec);
+}
+
+nlohmann::json topology_json() {
+  try {
+    const TopologyInfo t = discover_topology();
+    return {{"packages", t.packages}, {"numa_nodes", t.numa_nodes}, {"cores", t.cores},
+            {"pus", t.pus},           {"description", t.description}, {"synthetic", t.synthetic}};
+  } catch (const std::exception& e) {
+    return {{"error", e.what()}};
+  }
+}
+
+void print_summary(const SolveArgs& a, const Scene& scene, const SolverOptions& o,
+                   const RunStats& st, const fs::path& out, const std::vector<std::string>& files) {
+  const RunTotals& t = st.totals;
+  std::string listed;
+  for (const std::string& f : files) listed += (listed.empty() ? "" : ", ") + f;
+  fmt::print(
+      "Solved {} ({} polygons, {} emitting) with {} iteration{} of scheduler '{}', oracle '{}' "
+      "on {} thread{}: {} links, {} elements, {} rays cast ({} visibility queries answered "
+      "without rays); {:.3g} s wall, refinement {:.3g} s wall / {:.3g} s CPU. Results in {}: "
+      "{}.\n",
+      a.scene, scene.polygon_count(), scene.emitter_count(), st.iterations.size(),
+      st.iterations.size() == 1 ? "" : "s", o.scheduler, o.oracle, o.threads,
+      o.threads == 1 ? "" : "s", t.links, t.elements, t.rays_cast, t.rays_skipped, t.wall_s,
+      t.refine_wall_s, t.refine_cpu_s, out.string(), listed);
+}
+
+int run_solve(const SolveArgs& a, const CommandContext& ctx) {
+  // 1-3: everything that can be wrong with the input, before anything is created.
+  SolverOptions options;
+  Scene scene;
+  std::vector<Probe> probes;
+  std::unique_ptr<ProgressReporter> progress;
+  std::unique_ptr<Solver> solver;
+  try {
+    options = resolve_options(a);
+    scene = load_scene(a.scene);
+    if (!a.probes.empty()) probes = read_probes(a.probes);
+    for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
+    progress = std::make_unique<ProgressReporter>(a.quiet);
+    solver = std::make_unique<Solver>(scene, options, progress->callback());
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: {}\n", e.what());
+    return 1;
+  }
+
+  // 4: the output folder.
+  const fs::path out = a.out.empty() ? default_out_dir(scene) : fs::path(a.out);
+  bool created = false;
+  try {
+    if (fs::exists(out) && !fs::is_directory(out))
+      throw std::runtime_error(fmt::format("{} exists and is not a directory", out.string()));
+    created = fs::create_directories(out);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: cannot create the output folder: {}\n", e.what());
+    return 1;
+  }
+
+  // 5-6: run and write. stats.json comes last so that it lists what was written.
+  std::vector<std::string> written;  // paths as given to the user
+  nlohmann::json outputs = nlohmann::json::object();
+  std::optional<Failure> failure;
+  RunStats stats;
+  try {
+    const std::string started = local_time("%Y-%m-%dT%H:%M:%S%z");
+    stats = solver->run();
+    progress->finish();
+    const RenderMesh mesh = solver->render_mesh();
+
+    try {
+      write_ply(mesh, out / "solution.ply");
+      outputs["mesh"] = "solution.ply";
+      written.push_back("solution.ply");
+
+      const fs::path image = a.image.empty() ? out / "render.png" : fs::path(a.image);
+      if (!a.image.empty() && image.has_parent_path()) fs::create_directories(image.parent_path());
+      const int width = options.image_width;
+      const int height = std::max(1, width * 3 / 4);
+      render_png(mesh, scene.camera.value_or(scene.default_camera()), width, height, image);
+      outputs["image"] = a.image.empty() ? "render.png" : a.image;
+      written.push_back(a.image.empty() ? "render.png" : a.image);
+
+      if (!a.probes.empty()) {
+        write_probes_csv(out / "probes.csv", probes, solver->probe_irradiance(probes));
+        outputs["probes"] = "probes.csv";
+        written.push_back("probes.csv");
+      }
+    } catch (const std::exception& e) {
+      failure = Failure{e.what()};
+    }
+
+    nlohmann::json j = {
+        {"hrad", {{"version", kVersion}, {"git_revision", git_revision()},
+                  {"compiler", __VERSION__}}},
+        {"command_line", ctx.argv},
+        {"started_at", started},
+        {"config", options_to_json(options)},
+        {"config_file", a.config.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.config)},
+        {"scene", scene_summary_json(scene)},
+        {"topology", topology_json()},
+    };
+    j.update(stats_to_json(stats));
+    // Top-level warnings: the scene's first, then the solver's.
+    nlohmann::json warnings = scene.warnings;
+    for (const std::string& w : stats.warnings) warnings.push_back(w);
+    j["warnings"] = std::move(warnings);
+    j["outputs"] = outputs;
+    if (failure) j["error"] = failure->message;
+    write_json_atomically(out / "stats.json", j);
+    written.insert(written.begin(), "stats.json");
+  } catch (const std::exception& e) {
+    if (!failure) failure = Failure{e.what()};
+  }
+  progress->finish();
+
+  if (failure) {
+    fmt::print(stderr, "hrad: {}\n", failure->message);
+    if (created && is_empty_dir(out)) fs::remove(out);
+    return 1;
+  }
+  for (const std::string& w : stats.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
+  if (!a.quiet) print_summary(a, scene, options, stats, out, written);
+  return 0;
+}
+
+}  // namespace
+
+void register_solve(CLI::App& app, CommandContext& ctx) {
+  auto args = std::make_shared<SolveArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "solve", "Solve one scene and write stats.json, solution.ply and render.png.");
+  sub->add_option("SCENE", args->scene,
+                  "Scene to solve: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[?k=v&...] "
+                  "(see 'hrad scenes')")
+      ->required();
+
+  const SolverOptions defaults;
+  for (const OptionFlag& f : kOptionFlags) {
+    const OptionInfo* info = find_option(f.key);
+    const std::string help =
+        fmt::format("{} [config key {}; default {}]", info->help, f.key,
+                    option_value_string(defaults, f.key));
+    args->flag_options[f.key] =
+        sub->add_option(f.flag, args->flag_values[f.key], help)->type_name(f.value_name);
+  }
+  sub->add_option("--probes", args->probes,
+                  "Irradiance probes: a text file with one 'x y z nx ny nz' per line (scene "
+                  "units); writes probes.csv [default: none]")
+      ->type_name("FILE");
+  sub->add_option("--image", args->image,
+                  "Write the rendered image to FILE instead of DIR/render.png (PNG; missing "
+                  "folders are created)")
+      ->type_name("FILE");
+  sub->add_option("--out", args->out,
+                  "Output folder, created if missing, files in it replaced [default: "
+                  "results/<scene>-<YYYYmmdd-HHMMSS>/ in the current directory]")
+      ->type_name("DIR");
+  sub->add_option("--config", args->config,
+                  "JSON file of option keys (see README, 'Configuration'); explicit flags and "
+                  "--set override it [default: none]")
+      ->type_name("FILE");
+  sub->add_option("--set", args->sets,
+                  fmt::format("Set any option key, after --config and the flags; repeatable; "
+                              "'.' or '-' may replace '_' in KEY. Keys: {}",
+                              option_key_list()))
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);
+  sub->add_flag("--quiet", args->quiet,
+                "No progress line and no summary (warnings and errors are still printed)");
+
+  sub->callback([args, &ctx] { ctx.status = run_solve(*args, ctx); });
+}
+
+}  // namespace hrad::cli

@@ -1,0 +1,35 @@
+// The hrad command-line tool is a CLI11 app with one subcommand per file:
+//   solve       cmd_solve.cpp       solve one scene, write the result files
+//   scenes      cmd_scenes.cpp      list the built-in scenes and their parameters
+//   topology    cmd_topology.cpp    print the machine's topology as hwloc sees it
+//   experiment  cmd_experiment.cpp  run an experiment configuration (not built yet)
+// Each register_* adds its subcommand to `app`; when that subcommand is chosen, its
+// callback runs the command and stores the process exit status in `ctx.status`.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace hrad::cli {
+
+/// hrad's version; the git revision comes from CMake (HRAD_GIT_REVISION).
+inline constexpr const char* kVersion = "0.1.0";
+
+struct CommandContext {
+  std::vector<std::string> argv;  ///< the whole command line, for stats.json
+  int status = 0;                 ///< exit status of the command that ran
+};
+
+/// "hrad 0.1.0 (git abc1234)".
+std::string version_string();
+/// The git revision this binary was built from ("unknown" outside a git checkout).
+std::string git_revision();
+
+void register_solve(CLI::App& app, CommandContext& ctx);
+void register_scenes(CLI::App& app, CommandContext& ctx);
+void register_topology(CLI::App& app, CommandContext& ctx);
+void register_experiment(CLI::App& app, CommandContext& ctx);
+
+}  // namespace hrad::cli

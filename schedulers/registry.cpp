@@ -1,0 +1,38 @@
+// The scheduler registry: name -> factory, filled by each scheduler's file.
+#include "schedulers/scheduler.h"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace hrad {
+
+namespace {
+std::map<std::string, SchedulerFactory>& registry() {
+  static std::map<std::string, SchedulerFactory> r;
+  return r;
+}
+}  // namespace
+
+bool register_scheduler(const std::string& name, SchedulerFactory factory) {
+  registry()[name] = std::move(factory);
+  return true;
+}
+
+std::vector<std::string> scheduler_names() {
+  std::vector<std::string> names;
+  for (const auto& [name, f] : registry()) names.push_back(name);
+  return names;
+}
+
+std::unique_ptr<IScheduler> make_scheduler(const std::string& name, const SchedulerConfig& config) {
+  const auto it = registry().find(name);
+  if (it == registry().end())
+    throw std::invalid_argument(fmt::format("unknown scheduler '{}' (known: {})", name,
+                                            fmt::join(scheduler_names(), ", ")));
+  if (config.threads < 1 || config.block_size < 1)
+    throw std::invalid_argument("scheduler needs threads >= 1 and block_size >= 1");
+  return it->second(config);
+}
+
+}  // namespace hrad

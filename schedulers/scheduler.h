@@ -1,0 +1,72 @@
+// IScheduler: the only thing the refinement loop knows about task order.
+//
+// A task is a candidate link r <- s. Refiners (worker ids 0..threads-1) take up to
+// a block of tasks, refine them, and submit the tasks they created in one call.
+// The driver (core/refiner.cpp) owns termination: it counts tasks submitted but not
+// finished, so a scheduler only has to hand out what it holds.
+//
+// Contract for every scheduler:
+//  - every task submitted is returned by take() exactly once;
+//  - take() never blocks: it returns 0 when it has nothing for this worker now;
+//  - take(), submit() and load() may be called concurrently from any workers;
+//  - a scheduler may use `worker` to keep per-worker queues or locality.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hrad {
+
+struct Element;
+
+struct Task {
+  Element* receiver = nullptr;
+  Element* source = nullptr;
+  float form_factor = 0;  ///< cached from the link when `evaluated`
+  float visibility = 1;
+  float priority = 0;     ///< oracle error estimate (largest first for `priority`)
+  bool evaluated = false; ///< true for links reloaded from the previous iteration
+};
+
+struct SchedulerConfig {
+  int threads = 1;     ///< number of workers that will call take/submit
+  int block_size = 1;  ///< at most this many tasks per take()
+};
+
+/// Counters a scheduler keeps; summed over workers.
+struct SchedulerCounters {
+  std::uint64_t takes = 0;      ///< take() calls that returned at least one task
+  std::uint64_t empty_takes = 0;
+  std::uint64_t submits = 0;
+  std::uint64_t steals = 0;     ///< tasks taken from another worker's queue
+  double lock_wait_s = 0;       ///< time spent waiting for the scheduler's lock(s)
+};
+
+class IScheduler {
+ public:
+  virtual ~IScheduler() = default;
+  /// Fills `out` with up to min(out.size(), block_size) tasks; returns how many.
+  virtual std::size_t take(int worker, std::span<Task> out) = 0;
+  /// Adds tasks created by `worker` (or initial tasks, with worker 0).
+  virtual void submit(int worker, std::span<const Task> tasks) = 0;
+  [[nodiscard]] virtual SchedulerCounters counters() const = 0;
+  [[nodiscard]] virtual const char* name() const = 0;
+};
+
+using SchedulerFactory = std::function<std::unique_ptr<IScheduler>(const SchedulerConfig&)>;
+
+/// Creates a scheduler by name; throws std::invalid_argument listing the known
+/// names when `name` is unknown.
+std::unique_ptr<IScheduler> make_scheduler(const std::string& name, const SchedulerConfig& config);
+std::vector<std::string> scheduler_names();
+
+/// Registration: each scheduler file defines one `static const bool registered =
+/// register_scheduler("name", factory);` — a new scheduler is one new file.
+bool register_scheduler(const std::string& name, SchedulerFactory factory);
+
+}  // namespace hrad

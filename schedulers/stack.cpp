@@ -1,0 +1,30 @@
+// `stack`: a central LIFO pool under one lock. Depth-first like the recursive
+// refinement of classic hierarchical radiosity, so its working set stays small.
+//
+// | parameter  | type | default | meaning                          |
+// |------------|------|---------|----------------------------------|
+// | block_size | int  | 1       | tasks handed out per take()      |
+#include "schedulers/central_pool.h"
+
+#include <vector>
+
+namespace hrad {
+namespace {
+
+struct LifoTasks {
+  std::vector<Task> v;
+  void push(const Task& t) { v.push_back(t); }
+  Task pop() {
+    Task t = v.back();
+    v.pop_back();
+    return t;
+  }
+  [[nodiscard]] bool empty() const { return v.empty(); }
+};
+
+const bool registered = register_scheduler("stack", [](const SchedulerConfig& c) {
+  return std::make_unique<CentralPool<LifoTasks>>(c, "stack");
+});
+
+}  // namespace
+}  // namespace hrad

@@ -1,0 +1,244 @@
+#include "core/options_io.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <stdexcept>
+#include <string>
+
+namespace hrad {
+namespace {
+
+// The message of the std::invalid_argument thrown by f ("" when nothing is thrown).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+SolverOptions non_default_options() {
+  SolverOptions o;
+  o.scheduler = "blocked";
+  o.block_size = 10;
+  o.threads = 7;
+  o.oracle = "error";
+  o.eps = 2.5e-3;
+  o.min_area = 0.125;
+  o.iterations = 3;
+  o.visibility_rays = 0;
+  o.pin = "scatter";
+  o.placement = "interleave";
+  o.seed = 18446744073709551615ull;  // largest uint64: must survive JSON
+  o.gather_tolerance = 1e-9;
+  o.max_gather_sweeps = 12;
+  o.cluster_receiver = "cosine";
+  o.locks_pool = 64;
+  o.trace = "trace.bin";
+  o.image_width = 320;
+  return o;
+}
+
+void expect_equal(const SolverOptions& a, const SolverOptions& b) {
+  EXPECT_EQ(a.scheduler, b.scheduler);
+  EXPECT_EQ(a.block_size, b.block_size);
+  EXPECT_EQ(a.threads, b.threads);
+  EXPECT_EQ(a.oracle, b.oracle);
+  EXPECT_EQ(a.eps, b.eps);
+  EXPECT_EQ(a.min_area, b.min_area);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.visibility_rays, b.visibility_rays);
+  EXPECT_EQ(a.pin, b.pin);
+  EXPECT_EQ(a.placement, b.placement);
+  EXPECT_EQ(a.seed, b.seed);
+  EXPECT_EQ(a.gather_tolerance, b.gather_tolerance);
+  EXPECT_EQ(a.max_gather_sweeps, b.max_gather_sweeps);
+  EXPECT_EQ(a.cluster_receiver, b.cluster_receiver);
+  EXPECT_EQ(a.locks_pool, b.locks_pool);
+  EXPECT_EQ(a.trace, b.trace);
+  EXPECT_EQ(a.image_width, b.image_width);
+}
+
+TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
+  const nlohmann::json j = options_to_json(SolverOptions{});
+  std::set<std::string> names;
+  for (const OptionInfo& i : option_table()) {
+    EXPECT_TRUE(names.insert(i.name).second) << "duplicate key " << i.name;
+    EXPECT_TRUE(j.contains(i.name)) << i.name;
+    EXPECT_FALSE(i.help.empty()) << i.name;
+  }
+  EXPECT_EQ(names.size(), 17u);  // one per field of SolverOptions
+  EXPECT_EQ(j.size(), names.size());
+  EXPECT_EQ(j["scheduler"], "stack");
+  EXPECT_EQ(j["iterations"], 4);
+  EXPECT_EQ(j["eps"], 1e-4);
+}
+
+TEST(OptionsIo, JsonRoundTripThroughText) {
+  const SolverOptions in = non_default_options();
+  const nlohmann::json parsed = nlohmann::json::parse(options_to_json(in).dump());
+  SolverOptions out;
+  apply_options_json(out, parsed, "roundtrip.json");
+  expect_equal(in, out);
+}
+
+TEST(OptionsIo, PartialJsonLeavesOtherKeysAlone) {
+  SolverOptions o;
+  apply_options_json(o, nlohmann::json::parse(R"({"threads": 3, "eps": 0.5})"), "c.json");
+  EXPECT_EQ(o.threads, 3);
+  EXPECT_EQ(o.eps, 0.5);
+  EXPECT_EQ(o.scheduler, "stack");
+  EXPECT_EQ(o.iterations, 4);
+  apply_options_json(o, nlohmann::json::object(), "empty.json");
+  EXPECT_EQ(o.threads, 3);
+}
+
+TEST(OptionsIo, JsonUnknownKeyNamesKeySourceAndValidKeys) {
+  SolverOptions o;
+  const std::string e = error_of(
+      [&] { apply_options_json(o, nlohmann::json::parse(R"({"thread": 2})"), "my.json"); });
+  EXPECT_TRUE(contains(e, "my.json")) << e;
+  EXPECT_TRUE(contains(e, "'thread'")) << e;
+  EXPECT_TRUE(contains(e, "threads")) << e;
+  EXPECT_TRUE(contains(e, "block_size")) << e;
+  EXPECT_EQ(o.threads, 1);
+  // Dotted aliases are for --set only; the JSON error suggests the canonical name.
+  const std::string a = error_of(
+      [&] { apply_options_json(o, nlohmann::json::parse(R"({"locks.pool": 2})"), "a.json"); });
+  EXPECT_TRUE(contains(a, "did you mean 'locks_pool'")) << a;
+}
+
+TEST(OptionsIo, JsonWrongTypeNamesKeyAndExpectedType) {
+  const auto err = [](const char* text) {
+    SolverOptions o;
+    return error_of([&] { apply_options_json(o, nlohmann::json::parse(text), "t.json"); });
+  };
+  std::string e = err(R"({"threads": "4"})");
+  EXPECT_TRUE(contains(e, "t.json")) << e;
+  EXPECT_TRUE(contains(e, "'threads'")) << e;
+  EXPECT_TRUE(contains(e, "integer")) << e;
+  e = err(R"({"threads": 4.5})");
+  EXPECT_TRUE(contains(e, "integer")) << e;
+  e = err(R"({"threads": 4294967296})");
+  EXPECT_TRUE(contains(e, "'threads'")) << e;
+  e = err(R"({"eps": "small"})");
+  EXPECT_TRUE(contains(e, "'eps'") && contains(e, "number")) << e;
+  e = err(R"({"scheduler": 3})");
+  EXPECT_TRUE(contains(e, "'scheduler'") && contains(e, "string")) << e;
+  e = err(R"({"seed": -1})");
+  EXPECT_TRUE(contains(e, "'seed'") && contains(e, "unsigned integer")) << e;
+  e = err(R"([1, 2])");
+  EXPECT_TRUE(contains(e, "t.json") && contains(e, "object")) << e;
+  // An integer is a valid number.
+  EXPECT_EQ(err(R"({"eps": 1})"), "");
+}
+
+TEST(OptionsIo, SetAssignmentParsesEachType) {
+  SolverOptions o;
+  apply_option_assignment(o, "threads=8");
+  apply_option_assignment(o, "eps=2e-3");
+  apply_option_assignment(o, "scheduler=fifo");
+  apply_option_assignment(o, "seed=12345678901234");
+  apply_option_assignment(o, "trace=");  // empty string is a valid string value
+  apply_option_assignment(o, "oracle=a=b");  // split at the first '='
+  EXPECT_EQ(o.threads, 8);
+  EXPECT_EQ(o.eps, 2e-3);
+  EXPECT_EQ(o.scheduler, "fifo");
+  EXPECT_EQ(o.seed, 12345678901234ull);
+  EXPECT_EQ(o.trace, "");
+  EXPECT_EQ(o.oracle, "a=b");
+}
+
+TEST(OptionsIo, SetAcceptsDottedAndDashedAliases) {
+  SolverOptions o;
+  apply_option_assignment(o, "locks.pool=16");
+  apply_option_assignment(o, "cluster.receiver=cosine");
+  apply_option_assignment(o, "block-size=100");
+  EXPECT_EQ(o.locks_pool, 16);
+  EXPECT_EQ(o.cluster_receiver, "cosine");
+  EXPECT_EQ(o.block_size, 100);
+  ASSERT_NE(find_option("locks.pool"), nullptr);
+  EXPECT_EQ(find_option("locks.pool")->name, "locks_pool");
+  EXPECT_EQ(find_option("nope"), nullptr);
+}
+
+TEST(OptionsIo, SetRejectsBadInputNamingIt) {
+  SolverOptions o;
+  std::string e = error_of([&] { apply_option_assignment(o, "colour=red"); });
+  EXPECT_TRUE(contains(e, "'colour'")) << e;
+  EXPECT_TRUE(contains(e, "image_width")) << e;  // lists the valid keys
+  e = error_of([&] { apply_option_assignment(o, "threads=four"); });
+  EXPECT_TRUE(contains(e, "threads") && contains(e, "'four'") && contains(e, "integer")) << e;
+  e = error_of([&] { apply_option_assignment(o, "threads=4.5"); });
+  EXPECT_TRUE(contains(e, "threads")) << e;
+  e = error_of([&] { apply_option_assignment(o, "threads=99999999999"); });
+  EXPECT_TRUE(contains(e, "threads")) << e;
+  e = error_of([&] { apply_option_assignment(o, "eps=nan"); });
+  EXPECT_TRUE(contains(e, "eps")) << e;
+  e = error_of([&] { apply_option_assignment(o, "eps="); });
+  EXPECT_TRUE(contains(e, "eps")) << e;
+  e = error_of([&] { apply_option_assignment(o, "seed=-3"); });
+  EXPECT_TRUE(contains(e, "seed")) << e;
+  e = error_of([&] { apply_option_assignment(o, "threads"); });
+  EXPECT_TRUE(contains(e, "key=value")) << e;
+  e = error_of([&] { apply_option_assignment(o, "=4"); });
+  EXPECT_TRUE(contains(e, "key=value")) << e;
+  expect_equal(o, SolverOptions{});  // nothing was half-applied
+}
+
+TEST(OptionsIo, ValueStringFormatsCurrentValue) {
+  SolverOptions o;
+  EXPECT_EQ(option_value_string(o, "threads"), "1");
+  EXPECT_EQ(option_value_string(o, "scheduler"), "stack");
+  EXPECT_EQ(option_value_string(o, "eps"), "0.0001");
+  EXPECT_EQ(option_value_string(o, "locks.pool"), "0");
+}
+
+TEST(OptionsIo, DefaultsAndRoundTripValuesAreValid) {
+  EXPECT_NO_THROW(validate_options(SolverOptions{}));
+  SolverOptions o = non_default_options();
+  o.cluster_receiver = "isotropic";
+  EXPECT_NO_THROW(validate_options(o));
+}
+
+TEST(OptionsIo, ValidationNamesTheOffendingOption) {
+  const auto err = [](const std::string& assignment) {
+    SolverOptions o;
+    apply_option_assignment(o, assignment);
+    return error_of([&] { validate_options(o); });
+  };
+  const std::pair<const char*, const char*> cases[] = {
+      {"threads=0", "threads"},
+      {"block_size=0", "block_size"},
+      {"eps=0", "eps"},
+      {"eps=-1", "eps"},
+      {"iterations=0", "iterations"},
+      {"visibility_rays=-1", "visibility_rays"},
+      {"min_area=-0.5", "min_area"},
+      {"gather_tolerance=0", "gather_tolerance"},
+      {"max_gather_sweeps=0", "max_gather_sweeps"},
+      {"locks_pool=-2", "locks_pool"},
+      {"image_width=0", "image_width"},
+      {"pin=sideways", "pin"},
+      {"placement=node7", "placement"},
+      {"scheduler=", "scheduler"},
+      {"oracle=", "oracle"},
+  };
+  for (const auto& [assignment, key] : cases) {
+    const std::string e = err(assignment);
+    EXPECT_TRUE(contains(e, std::string("option ") + key)) << assignment << ": " << e;
+  }
+  EXPECT_TRUE(contains(err("threads=0"), ">= 1"));
+  EXPECT_EQ(err("min_area=0"), "");
+  EXPECT_EQ(err("visibility_rays=0"), "");
+}
+
+}  // namespace
+}  // namespace hrad

@@ -1,0 +1,385 @@
+#include "core/ray_scene.h"
+
+#include "core/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+namespace hrad {
+namespace {
+
+/// A polygon soup built up in tests: vertices, indices and ranges as RayScene takes them.
+struct Soup {
+  std::vector<Vec3> vertices;
+  std::vector<std::uint32_t> indices;
+  std::vector<PolygonRange> polys;
+
+  std::uint32_t add(std::initializer_list<Vec3> corners) {
+    PolygonRange r{static_cast<std::uint32_t>(indices.size()),
+                   static_cast<std::uint32_t>(corners.size())};
+    for (const Vec3& c : corners) {
+      indices.push_back(static_cast<std::uint32_t>(vertices.size()));
+      vertices.push_back(c);
+    }
+    polys.push_back(r);
+    return static_cast<std::uint32_t>(polys.size() - 1);
+  }
+  /// The same soup under p -> s * p + shift.
+  [[nodiscard]] Soup transformed(double s, const Vec3& shift) const {
+    Soup t = *this;
+    for (Vec3& v : t.vertices) v = s * v + shift;
+    return t;
+  }
+  [[nodiscard]] RayScene build() const { return RayScene(vertices, indices, polys); }
+};
+
+/// Unit square in z = 0 (a quad), and a triangle in z = -1 further along -z.
+Soup square_and_triangle() {
+  Soup s;
+  s.add({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}});
+  s.add({{0, 0, -1}, {1, 0, -1}, {0, 1, -1}});
+  return s;
+}
+
+TEST(RayScene, SegmentThroughQuadIsOccluded) {
+  const RayScene rs = square_and_triangle().build();
+  EXPECT_TRUE(rs.occluded({0.5, 0.5, 1}, {0.5, 0.5, -0.5}));
+  EXPECT_TRUE(rs.occluded({0.5, 0.5, -0.5}, {0.5, 0.5, 1}));  // either direction
+  EXPECT_TRUE(rs.occluded({0.2, 0.7, 1}, {0.9, 0.1, -0.5}));  // oblique
+}
+
+TEST(RayScene, SegmentBesideQuadIsNotOccluded) {
+  const RayScene rs = square_and_triangle().build();
+  EXPECT_FALSE(rs.occluded({1.5, 0.5, 1}, {1.5, 0.5, -2}));
+  EXPECT_FALSE(rs.occluded({0.5, 0.5, 2}, {0.5, 0.5, 1}));      // stops short of it
+  EXPECT_FALSE(rs.occluded({0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}));  // empty segment
+}
+
+TEST(RayScene, EndPointsOnSurfacesAreExcluded) {
+  const RayScene rs = square_and_triangle().build();
+  // Ending exactly on the quad, starting exactly on it, or joining the two polygons.
+  EXPECT_FALSE(rs.occluded({0.5, 0.5, 1}, {0.5, 0.5, 0}));
+  EXPECT_FALSE(rs.occluded({0.3, 0.2, 0}, {0.7, 0.9, 1}));
+  EXPECT_FALSE(rs.occluded({0.25, 0.25, -1}, {0.5, 0.5, 0}));
+  // ... but a segment reaching 1e-3 past the surface is blocked.
+  EXPECT_TRUE(rs.occluded({0.5, 0.5, 1}, {0.5, 0.5, -1e-3}));
+}
+
+TEST(RayScene, EndPointOnSurfaceAtGrazingAnglesIsNotOccluded) {
+  // Segments from random points above the square to random points on it, at angles to
+  // the surface down to 0.1 degree (kEndpointEpsilon = 1e-6 fails below about 1 degree).
+  // The surface carrying the end point must never count.
+  const RayScene rs = square_and_triangle().build();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  int wrong = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 on(0.1 + 0.8 * uni(rng), 0.1 + 0.8 * uni(rng), 0);
+    const double elevation = (0.1 + 89.9 * uni(rng)) * std::numbers::pi / 180.0;
+    const double azimuth = 2 * std::numbers::pi * uni(rng);
+    const double len = 0.05 + 2 * uni(rng);
+    const Vec3 dir(std::cos(elevation) * std::cos(azimuth),
+                   std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+    const Vec3 off = on + len * dir;
+    wrong += rs.occluded(off, on) ? 1 : 0;
+    wrong += rs.occluded(on, off) ? 1 : 0;
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+/// Queries with clear answers (no end point or crossing within 1e-3 of an edge).
+struct Query {
+  Vec3 from, to;
+};
+std::vector<Query> standard_queries() {
+  return {{{0.5, 0.5, 1}, {0.5, 0.5, -0.5}}, {{0.5, 0.5, 1}, {0.5, 0.5, 0}},
+          {{1.5, 0.5, 1}, {1.5, 0.5, -2}},   {{0.2, 0.2, 1}, {0.2, 0.2, -2}},
+          {{0.2, 0.2, -0.5}, {0.2, 0.2, -1}}, {{0.7, 0.7, -0.5}, {0.7, 0.7, -2}},
+          {{0.3, 0.2, 0}, {0.7, 0.9, 1}},    {{0.9, 0.9, 0.5}, {0.1, 0.1, -1.5}}};
+}
+
+TEST(RayScene, AnswersDoNotDependOnScaleOrPosition) {
+  const Soup base = square_and_triangle();
+  const RayScene ref = base.build();
+  const auto queries = standard_queries();
+  for (const double s : {1e-3, 1e3}) {
+    for (const Vec3& shift : {Vec3(0, 0, 0), Vec3(1e4 * s, -3e4 * s, 2e4 * s)}) {
+      SCOPED_TRACE(testing::Message() << "scale " << s << " shift " << shift.transpose());
+      const RayScene rs = base.transformed(s, shift).build();
+      EXPECT_NEAR(rs.scale(), s * ref.scale(), 1e-9 * s);
+      for (const Query& q : queries) {
+        EXPECT_EQ(rs.occluded(s * q.from + shift, s * q.to + shift), ref.occluded(q.from, q.to))
+            << q.from.transpose() << " -> " << q.to.transpose();
+      }
+      // Hit distances (along a unit direction) scale with the scene; u, v do not change.
+      const auto a = ref.intersect({0.3, 0.6, 2}, {0, 0, -1});
+      const auto b = rs.intersect(s * Vec3(0.3, 0.6, 2) + shift, {0, 0, -1});
+      ASSERT_TRUE(a && b);
+      EXPECT_EQ(a->prim, b->prim);
+      EXPECT_NEAR(b->t, s * a->t, 1e-9 * s);
+      EXPECT_NEAR(a->u, b->u, 1e-5);
+      EXPECT_NEAR(a->v, b->v, 1e-5);
+    }
+  }
+}
+
+TEST(RayScene, IntersectTriangleGivesPrimDistanceAndBarycentrics) {
+  Soup s;
+  s.add({{5, 5, 5}, {6, 5, 5}, {5, 6, 5}});  // prim 0, out of the way
+  s.add({{0, 0, 0}, {2, 0, 0}, {0, 4, 0}});  // prim 1: p = p0 + u (2,0,0) + v (0,4,0)
+  const RayScene rs = s.build();
+  const auto hit = rs.intersect({0.5, 1.0, 3}, {0, 0, -2});
+  ASSERT_TRUE(hit);
+  EXPECT_EQ(hit->prim, 1u);
+  EXPECT_NEAR(hit->t, 1.5, 1e-12);  // t in units of |dir| = 2
+  EXPECT_NEAR(hit->u, 0.25, 1e-6);
+  EXPECT_NEAR(hit->v, 0.25, 1e-6);
+  // From below too: polygons are two-sided.
+  const auto below = rs.intersect({0.5, 1.0, -1}, {0, 0, 1});
+  ASSERT_TRUE(below);
+  EXPECT_EQ(below->prim, 1u);
+  EXPECT_NEAR(below->t, 1.0, 1e-12);
+}
+
+TEST(RayScene, IntersectQuadUsesCornerZeroWithUTowardsOneAndVTowardsThree) {
+  // A parallelogram with skewed edges: p = p0 + u (p1 - p0) + v (p3 - p0).
+  const Vec3 p0(1, 1, 0), eu(2, 0.5, 0), ev(-0.5, 1.5, 0);
+  Soup s;
+  s.add({{9, 9, 9}, {9, 8, 9}, {8, 9, 9}});
+  s.add({p0, p0 + eu, p0 + eu + ev, p0 + ev});
+  const RayScene rs = s.build();
+  // Points in both of Embree's internal triangles (split along p1-p3).
+  for (const auto& [u, v] : {std::pair{0.2, 0.3}, std::pair{0.8, 0.9}, std::pair{0.9, 0.15},
+                             std::pair{0.1, 0.85}}) {
+    const Vec3 target = p0 + u * eu + v * ev;
+    const auto hit = rs.intersect(target + Vec3(0, 0, 1), {0, 0, -1});
+    ASSERT_TRUE(hit);
+    EXPECT_EQ(hit->prim, 1u);
+    EXPECT_NEAR(hit->t, 1.0, 1e-12);
+    EXPECT_NEAR(hit->u, u, 1e-6);
+    EXPECT_NEAR(hit->v, v, 1e-6);
+  }
+}
+
+TEST(RayScene, LargerPolygonsAreFanSplitAndMappedBack) {
+  Soup s;
+  s.add({{0, 0, 5}, {1, 0, 5}, {0, 1, 5}});
+  std::vector<Vec3> penta;
+  for (int k = 0; k < 5; ++k) {
+    const double a = 2 * std::numbers::pi * k / 5;
+    penta.emplace_back(std::cos(a), std::sin(a), 0);
+  }
+  s.add({penta[0], penta[1], penta[2], penta[3], penta[4]});
+  s.add({{0, 0, -5}, {1, 0, -5}, {1, 1, -5}, {0, 1, -5}});
+  const RayScene rs = s.build();
+  EXPECT_EQ(rs.polygon_count(), 3u);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uni(-0.8, 0.8);
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 target(uni(rng), uni(rng), 0);
+    if (target.norm() > 0.8) continue;  // the pentagon's inscribed radius is 0.809
+    const auto hit = rs.intersect(target + Vec3(0, 0, 1), {0, 0, -1});
+    ASSERT_TRUE(hit);
+    EXPECT_EQ(hit->prim, 1u);
+    ASSERT_LE(hit->sub, 2u);
+    const Vec3 p = (1 - hit->u - hit->v) * penta[0] + hit->u * penta[hit->sub + 1] +
+                   hit->v * penta[hit->sub + 2];
+    EXPECT_NEAR((p - target).norm(), 0, 1e-6);
+  }
+  const auto quad = rs.intersect({0.5, 0.5, -1}, {0, 0, -1});
+  ASSERT_TRUE(quad);
+  EXPECT_EQ(quad->prim, 2u);
+}
+
+TEST(RayScene, IntersectRespectsTmaxAndMisses) {
+  const RayScene rs = square_and_triangle().build();
+  EXPECT_FALSE(rs.intersect({0.5, 0.5, 1}, {0, 0, 1}));         // away from everything
+  EXPECT_FALSE(rs.intersect({0.5, 0.5, 1}, {0, 0, -1}, 0.99));  // stops short
+  const auto first = rs.intersect({0.2, 0.2, 1}, {0, 0, -1});
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->prim, 0u);
+  EXPECT_NEAR(first->t, 1.0, 1e-12);
+  // Starting on the quad, the next surface is the triangle below.
+  const auto next = rs.intersect({0.2, 0.2, 0}, {0, 0, -1});
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->prim, 1u);
+  EXPECT_NEAR(next->t, 1.0, 1e-12);
+  EXPECT_THROW((void)rs.intersect({0, 0, 0}, {0, 0, 0}), std::invalid_argument);
+}
+
+TEST(RayScene, EmptySceneNeverHits) {
+  const RayScene rs(std::span<const Vec3>{}, {}, {});
+  EXPECT_EQ(rs.scale(), 0.0);
+  EXPECT_FALSE(rs.occluded({0, 0, 0}, {1, 1, 1}));
+  EXPECT_FALSE(rs.intersect({0, 0, 0}, {1, 1, 1}));
+}
+
+TEST(RayScene, RejectsBadInput) {
+  const std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<std::uint32_t> idx = {0, 1, 2};
+  EXPECT_THROW(RayScene(v, idx, std::vector<PolygonRange>{{0, 2}}), std::invalid_argument);
+  EXPECT_THROW(RayScene(v, idx, std::vector<PolygonRange>{{1, 3}}), std::invalid_argument);
+  const std::vector<std::uint32_t> far = {0, 1, 7};
+  EXPECT_THROW(RayScene(v, far, std::vector<PolygonRange>{{0, 3}}), std::invalid_argument);
+  std::vector<Vec3> nan = v;
+  nan[1].x() = std::nan("");
+  EXPECT_THROW(RayScene(nan, idx, std::vector<PolygonRange>{{0, 3}}), std::invalid_argument);
+}
+
+TEST(RayScene, FromSceneUsesFaceIndices) {
+  Scene sc;
+  sc.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  sc.indices = {4, 5, 6, 0, 1, 2, 3};
+  sc.faces = {{0, 3, 0}, {3, 4, 0}};
+  sc.materials = {Material{}};
+  const RayScene rs = RayScene::from_scene(sc);
+  EXPECT_NEAR(rs.scale(), std::sqrt(3.0), 1e-12);
+  const auto top = rs.intersect({0.2, 0.2, 2}, {0, 0, -1});
+  ASSERT_TRUE(top);
+  EXPECT_EQ(top->prim, 0u);
+  const auto bottom = rs.intersect({0.8, 0.8, 2}, {0, 0, -1});
+  ASSERT_TRUE(bottom);
+  EXPECT_EQ(bottom->prim, 1u);
+}
+
+/// Random small triangles in the unit cube.
+Soup random_triangles(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0), off(-0.05, 0.05);
+  Soup s;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 c(uni(rng), uni(rng), uni(rng));
+    s.add({c + Vec3(off(rng), off(rng), off(rng)), c + Vec3(off(rng), off(rng), off(rng)),
+           c + Vec3(off(rng), off(rng), off(rng))});
+  }
+  return s;
+}
+
+/// Double-precision reference: does triangle (a,b,c) cross the open segment p->q, and
+/// is the answer clear (crossing further than `margin` from the triangle's edges, in
+/// barycentric terms, and from the segment's end points, in t)?
+std::pair<bool, bool> crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                              const Vec3& c, double margin) {
+  const Vec3 d = q - p, e1 = b - a, e2 = c - a;
+  const Vec3 h = d.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) < 1e-14) return {false, true};
+  const Vec3 s = p - a;
+  const double u = s.dot(h) / det;
+  const Vec3 k = s.cross(e1);
+  const double v = d.dot(k) / det;
+  const double t = e2.dot(k) / det;
+  const bool inside = u > 0 && v > 0 && u + v < 1 && t > 0 && t < 1;
+  const bool clear = std::min({std::abs(u), std::abs(v), std::abs(1 - u - v), std::abs(t),
+                               std::abs(1 - t)}) > margin;
+  return {inside, clear};
+}
+
+TEST(RayScene, AgreesWithDoublePrecisionReferenceOnRandomSoup) {
+  const Soup s = random_triangles(300, 11);
+  const RayScene rs = s.build();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uni(-0.1, 1.1);
+  int compared = 0, disagree = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 p(uni(rng), uni(rng), uni(rng)), q(uni(rng), uni(rng), uni(rng));
+    bool blocked = false, clear = true;
+    for (const PolygonRange& r : s.polys) {
+      const auto [in, ok] = crosses(p, q, s.vertices[s.indices[r.first]],
+                                    s.vertices[s.indices[r.first + 1]],
+                                    s.vertices[s.indices[r.first + 2]], 1e-4);
+      blocked = blocked || in;
+      clear = clear && ok;
+    }
+    if (!clear) continue;
+    ++compared;
+    disagree += rs.occluded(p, q) != blocked ? 1 : 0;
+  }
+  EXPECT_GT(compared, 2500);
+  EXPECT_EQ(disagree, 0);
+}
+
+TEST(RayScene, ConcurrentQueriesGiveTheSerialAnswers) {
+  const Soup s = random_triangles(2000, 21);
+  const RayScene rs = s.build();
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::vector<Query> queries(4000);
+  for (Query& q : queries) {
+    q.from = Vec3(uni(rng), uni(rng), uni(rng));
+    q.to = Vec3(uni(rng), uni(rng), uni(rng));
+  }
+  std::vector<char> occ_ref(queries.size());
+  std::vector<double> t_ref(queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    occ_ref[i] = rs.occluded(queries[i].from, queries[i].to);
+    const auto h = rs.intersect(queries[i].from, queries[i].to - queries[i].from);
+    t_ref[i] = h ? h->t : -1;
+  }
+  const std::uint64_t serial_rays = rs.rays_cast();
+  EXPECT_EQ(serial_rays, 2 * queries.size());
+
+  constexpr int kThreads = 4;
+  std::vector<int> mismatches(kThreads, 0);
+  std::vector<std::thread> threads;
+  for (int th = 0; th < kThreads; ++th) {
+    threads.emplace_back([&, th] {
+      for (std::size_t j = 0; j < queries.size(); ++j) {
+        const std::size_t i = (j * 7 + static_cast<std::size_t>(th) * 1000) % queries.size();
+        const auto h = rs.intersect(queries[i].from, queries[i].to - queries[i].from);
+        if (rs.occluded(queries[i].from, queries[i].to) != static_cast<bool>(occ_ref[i]) ||
+            (h ? h->t : -1) != t_ref[i])
+          ++mismatches[th];
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  for (int th = 0; th < kThreads; ++th) EXPECT_EQ(mismatches[th], 0) << "thread " << th;
+  EXPECT_EQ(rs.rays_cast(), serial_rays + kThreads * 2 * queries.size());
+}
+
+TEST(RayScene, ThroughputOfOcclusionRays) {
+  // Not a benchmark with a verdict: reports one thread's occlusion rays per second on
+  // 10k random triangles (size ~0.05 in the unit cube), for long segments (across the
+  // cube, nearly all blocked) and short ones (length <= 0.2, mostly free), and checks
+  // the order of magnitude only.
+  const Soup s = random_triangles(10000, 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  const RayScene rs = s.build();
+  const double build_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << "[ RayScene ] 10k triangles: build " << build_ms << " ms\n";
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> uni(0.0, 1.0), step(-0.1, 0.1);
+  for (const bool short_segments : {false, true}) {
+    std::vector<Query> queries(200000);
+    for (Query& q : queries) {
+      q.from = Vec3(uni(rng), uni(rng), uni(rng));
+      q.to = short_segments ? Vec3(q.from + Vec3(step(rng), step(rng), step(rng)))
+                            : Vec3(uni(rng), uni(rng), uni(rng));
+    }
+    std::size_t blocked = 0;
+    const auto t1 = std::chrono::steady_clock::now();
+    for (const Query& q : queries) blocked += rs.occluded(q.from, q.to) ? 1 : 0;
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    const double rate = static_cast<double>(queries.size()) / secs;
+    std::cout << "[ RayScene ] " << (short_segments ? "short" : "long ") << " segments: "
+              << rate / 1e6 << " M occlusion rays/s (one thread), "
+              << 100.0 * static_cast<double>(blocked) / static_cast<double>(queries.size())
+              << "% blocked\n";
+    RecordProperty(short_segments ? "short_rays_per_second" : "long_rays_per_second",
+                   static_cast<int>(rate));
+    EXPECT_GT(rate, 1e5);
+  }
+}
+
+}  // namespace
+}  // namespace hrad

@@ -1,0 +1,182 @@
+#include "core/stats_json.h"
+
+#include "core/scene_builder.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace hrad {
+namespace {
+
+RunStats sample_stats() {
+  RunStats s;
+  for (int i = 1; i <= 2; ++i) {
+    IterationStats it;
+    it.iteration = i;
+    it.refine_wall_s = 0.5 * i;
+    it.refine_cpu_s = 0.9 * i;
+    it.propagate_wall_s = 0.1;
+    it.links_created = 100u * i;
+    it.links = 150u * i;
+    it.elements = 40u * i;
+    it.bytes = {{"elements", 4096}, {"links", 8192}};
+    it.peak_rss_bytes = 1u << 20;
+    it.tasks = 300;
+    it.scheduler_ops = 60;
+    it.lock_wait_s = {{"scheduler", 0.01}, {"element", 0.002}, {"link", 0.0}};
+    it.idle_s = 0.05;
+    it.rays_cast = 1000;
+    it.rays_skipped = 250;
+    it.gather_sweeps = 7;
+    it.max_change = 1e-7;
+    s.iterations.push_back(it);
+  }
+  s.totals = {2.0, 1.5, 2.7, 300, 80, 2000, 500, 1u << 20};
+  s.warnings = {"scene has no emitter"};
+  return s;
+}
+
+// The keys issue 2 (item 6) requires, with their JSON types.
+enum class Kind { Integer, Number, Object };
+
+bool has_kind(const nlohmann::json& v, Kind k) {
+  switch (k) {
+    case Kind::Integer: return v.is_number_integer();
+    case Kind::Number: return v.is_number();
+    case Kind::Object: return v.is_object();
+  }
+  return false;
+}
+
+TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
+  const nlohmann::json j = stats_to_json(sample_stats());
+  const std::pair<const char*, Kind> keys[] = {
+      {"iteration", Kind::Integer},      {"refine_wall_s", Kind::Number},
+      {"refine_cpu_s", Kind::Number},    {"propagate_wall_s", Kind::Number},
+      {"links_created", Kind::Integer},  {"links", Kind::Integer},
+      {"elements", Kind::Integer},       {"bytes", Kind::Object},
+      {"peak_rss_bytes", Kind::Integer}, {"tasks", Kind::Integer},
+      {"scheduler_ops", Kind::Integer},  {"lock_wait_s", Kind::Object},
+      {"idle_s", Kind::Number},          {"rays_cast", Kind::Integer},
+      {"rays_skipped", Kind::Integer},   {"gather_sweeps", Kind::Integer},
+      {"max_change", Kind::Number},
+  };
+  ASSERT_TRUE(j.at("iterations").is_array());
+  ASSERT_EQ(j["iterations"].size(), 2u);
+  for (const nlohmann::json& it : j["iterations"]) {
+    for (const auto& [key, kind] : keys) {
+      ASSERT_TRUE(it.contains(key)) << key;
+      EXPECT_TRUE(has_kind(it[key], kind)) << key << " = " << it[key].dump();
+    }
+    EXPECT_EQ(it.size(), std::size(keys));
+  }
+  const nlohmann::json& second = j["iterations"][1];
+  EXPECT_EQ(second["iteration"], 2);
+  EXPECT_EQ(second["links_created"], 200);
+  EXPECT_DOUBLE_EQ(second["refine_cpu_s"].get<double>(), 1.8);
+  EXPECT_EQ(second["bytes"]["links"], 8192);
+  EXPECT_DOUBLE_EQ(second["lock_wait_s"]["scheduler"].get<double>(), 0.01);
+  EXPECT_TRUE(second["lock_wait_s"]["link"].is_number());
+}
+
+TEST(StatsJson, TotalsHaveTheDocumentedKeysWithTypes) {
+  const nlohmann::json t = stats_to_json(sample_stats()).at("totals");
+  const std::pair<const char*, Kind> keys[] = {
+      {"wall_s", Kind::Number},        {"refine_wall_s", Kind::Number},
+      {"refine_cpu_s", Kind::Number},  {"links", Kind::Integer},
+      {"elements", Kind::Integer},     {"rays_cast", Kind::Integer},
+      {"rays_skipped", Kind::Integer}, {"peak_rss_bytes", Kind::Integer},
+  };
+  for (const auto& [key, kind] : keys) {
+    ASSERT_TRUE(t.contains(key)) << key;
+    EXPECT_TRUE(has_kind(t[key], kind)) << key;
+  }
+  EXPECT_EQ(t.size(), std::size(keys));
+  EXPECT_EQ(t["links"], 300);
+  EXPECT_DOUBLE_EQ(t["wall_s"].get<double>(), 2.0);
+}
+
+TEST(StatsJson, WarningsAndEmptyRun) {
+  const nlohmann::json j = stats_to_json(sample_stats());
+  ASSERT_TRUE(j.at("warnings").is_array());
+  EXPECT_EQ(j["warnings"][0], "scene has no emitter");
+  const nlohmann::json empty = stats_to_json(RunStats{});
+  EXPECT_TRUE(empty.at("iterations").is_array());
+  EXPECT_TRUE(empty["iterations"].empty());
+  EXPECT_EQ(empty["totals"]["links"], 0);
+}
+
+TEST(StatsJson, NonFiniteNumbersBecomeNull) {
+  RunStats s;
+  s.iterations.emplace_back();
+  s.iterations[0].max_change = std::nan("");
+  s.totals.wall_s = INFINITY;
+  const nlohmann::json j = stats_to_json(s);
+  EXPECT_TRUE(j["iterations"][0]["max_change"].is_null());
+  EXPECT_TRUE(j["totals"]["wall_s"].is_null());
+  EXPECT_TRUE(nlohmann::json::parse(j.dump()).is_object());
+}
+
+Scene two_quads() {
+  SceneBuilder b("box", "test.obj");
+  const SourceLoc at{"test.obj", 1};
+  Material light;
+  light.name = "light";
+  light.reflectance = Rgb(0.2, 0.2, 0.2);
+  light.emission = Rgb(2.0, 1.0, 0.5);
+  Material wall;
+  wall.name = "wall";
+  const auto l = b.add_material(light, at);
+  const auto w = b.add_material(wall, at);
+  const std::vector<Vec3> floor = {{0, 0, 0}, {2, 0, 0}, {2, 0, 3}, {0, 0, 3}};
+  const std::vector<Vec3> lamp = {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}};
+  b.add_polygon(floor, w, at);
+  b.add_polygon(lamp, l, at);
+  return b.finish("test.obj");
+}
+
+TEST(StatsJson, SceneSummary) {
+  const nlohmann::json j = scene_summary_json(two_quads());
+  EXPECT_EQ(j.at("name"), "box");
+  EXPECT_EQ(j.at("source"), "test.obj");
+  EXPECT_EQ(j.at("polygons"), 2);
+  EXPECT_EQ(j.at("emitters"), 1);
+  EXPECT_EQ(j.at("materials"), 2);
+  EXPECT_TRUE(j.at("vertices").is_number_integer());
+  EXPECT_DOUBLE_EQ(j.at("total_area").get<double>(), 7.0);
+  ASSERT_EQ(j.at("emitted_power").size(), 3u);
+  EXPECT_DOUBLE_EQ(j["emitted_power"][0].get<double>(), 2.0);  // exitance 2 x area 1
+  EXPECT_DOUBLE_EQ(j["emitted_power"][2].get<double>(), 0.5);
+  EXPECT_EQ(j.at("bounds").at("lo"), nlohmann::json({0.0, 0.0, 0.0}));
+  EXPECT_EQ(j.at("bounds").at("hi"), nlohmann::json({2.0, 1.0, 3.0}));
+  EXPECT_EQ(j.at("grey"), false);  // the light's emission is coloured
+  EXPECT_TRUE(j.at("warnings").is_array());
+}
+
+TEST(StatsJson, WriteJsonAtomicallyLeavesOnlyTheFinalFile) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("hrad-stats-json-test-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "stats.json";
+  nlohmann::json j = stats_to_json(sample_stats());
+  j["note"] = std::string("bad utf-8: \xff");  // replaced, not an exception
+  write_json_atomically(path, j);
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  const nlohmann::json back = nlohmann::json::parse(text.str());
+  EXPECT_EQ(back["totals"], j["totals"]);
+  EXPECT_EQ(text.str().back(), '\n');
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 1);  // no temporary left behind
+  EXPECT_THROW(write_json_atomically(dir / "missing" / "x.json", j), std::runtime_error);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hrad

@@ -1,0 +1,90 @@
+#include "core/topology.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+namespace hrad {
+namespace {
+
+// Sets an environment variable for the lifetime of the guard, then unsets it, so a
+// synthetic topology never leaks into other tests.
+class EnvGuard {
+ public:
+  EnvGuard(const char* name, const char* value) : name_(name) { ::setenv(name, value, 1); }
+  ~EnvGuard() { ::unsetenv(name_); }
+  EnvGuard(const EnvGuard&) = delete;
+  EnvGuard& operator=(const EnvGuard&) = delete;
+
+ private:
+  const char* name_;
+};
+
+TEST(Topology, ThisMachineIsConsistent) {
+  const TopologyInfo t = discover_topology();
+  EXPECT_FALSE(t.synthetic);
+  EXPECT_GE(t.numa_nodes, 1);
+  EXPECT_GE(t.cores, 1);
+  EXPECT_GE(t.pus, t.cores);
+  EXPECT_EQ(static_cast<int>(t.nodes.size()), t.numa_nodes);
+  int pus = 0;
+  for (const NumaNodeInfo& n : t.nodes) pus += n.pus;
+  EXPECT_EQ(pus, t.pus);
+  EXPECT_NE(t.description.find("this machine"), std::string::npos) << t.description;
+}
+
+TEST(Topology, SyntheticTwoNodes) {
+  TopologyInfo t;
+  {
+    EnvGuard env("HWLOC_SYNTHETIC", "node:2 core:2 pu:1");
+    t = discover_topology();
+  }
+  EXPECT_TRUE(t.synthetic);
+  EXPECT_EQ(t.numa_nodes, 2);
+  EXPECT_EQ(t.cores, 4);
+  EXPECT_EQ(t.pus, 4);
+  ASSERT_EQ(t.nodes.size(), 2u);
+  EXPECT_EQ(t.nodes[0].cores, 2);
+  EXPECT_EQ(t.nodes[1].cores, 2);
+  EXPECT_EQ(t.nodes[0].cpus, "0-1");
+  EXPECT_EQ(t.nodes[1].cpus, "2-3");
+  EXPECT_NE(t.description.find("node:2 core:2 pu:1"), std::string::npos) << t.description;
+  // The variable is gone again: back to this machine.
+  EXPECT_FALSE(discover_topology().synthetic);
+}
+
+TEST(Topology, SyntheticPackagesWithHyperthreads) {
+  EnvGuard env("HWLOC_SYNTHETIC", "pack:2 node:2 core:4 pu:2");
+  const TopologyInfo t = discover_topology();
+  EXPECT_EQ(t.packages, 2);
+  EXPECT_EQ(t.numa_nodes, 4);
+  EXPECT_EQ(t.cores, 16);
+  EXPECT_EQ(t.pus, 32);
+  ASSERT_EQ(t.nodes.size(), 4u);
+  EXPECT_EQ(t.nodes[0].package, 0);
+  EXPECT_EQ(t.nodes[3].package, 1);
+  EXPECT_EQ(t.nodes[2].pus, 8);
+}
+
+TEST(Topology, FormatListsPackagesAndNodes) {
+  EnvGuard env("HWLOC_SYNTHETIC", "pack:2 node:1 core:2 pu:2");
+  const std::string s = format_topology(discover_topology());
+  EXPECT_NE(s.find("2 packages, 2 NUMA nodes, 4 cores, 8 PUs"), std::string::npos) << s;
+  EXPECT_NE(s.find("  Package 1\n"), std::string::npos) << s;
+  EXPECT_NE(s.find("    NUMA node 1: 2 cores, 4 PUs (cpus 4-7)"), std::string::npos) << s;
+}
+
+TEST(Topology, FormatWithoutPackageLevel) {
+  TopologyInfo t;
+  t.description = "test";
+  t.numa_nodes = 1;
+  t.cores = t.pus = 1;
+  t.nodes.push_back({0, -1, 1, 1, "0", 0});
+  const std::string s = format_topology(t);
+  EXPECT_NE(s.find("0 packages, 1 NUMA node, 1 core, 1 PU "), std::string::npos) << s;
+  EXPECT_NE(s.find("  NUMA node 0: 1 core, 1 PU (cpus 0), memory unknown"), std::string::npos)
+      << s;
+}
+
+}  // namespace
+}  // namespace hrad
