@@ -21,8 +21,10 @@ struct Entry {
 
 const std::vector<Entry>& entries() {
   static const std::vector<Entry> e = {
-      {builtin::cornell_info, builtin::make_cornell}, {builtin::furnace_info, builtin::make_furnace},
-      {builtin::office_info, builtin::make_office},   {builtin::lab_info, builtin::make_lab},
+      {builtin::cornell_info, builtin::make_cornell},
+      {builtin::furnace_info, builtin::make_furnace},
+      {builtin::office_info, builtin::make_office},
+      {builtin::lab_info, builtin::make_lab},
       {builtin::cabin_info, builtin::make_cabin},
   };
   return e;
@@ -59,7 +61,9 @@ double Args::get(const std::string& name) const {
   return it->second;
 }
 
-int Args::get_int(const std::string& name) const { return static_cast<int>(std::lround(get(name))); }
+int Args::get_int(const std::string& name) const {
+  return static_cast<int>(std::lround(get(name)));
+}
 
 }  // namespace builtin
 

@@ -12,7 +12,7 @@
 //   furnace   closed room + closed objects, one material (analytic)  20 polygons
 //   office    desks, chairs, monitors, shelves, ceiling lights    ~5,000 polygons
 //   lab       two floors with a stair void, many tiny patches    ~30,000 polygons
-//   cabin     aircraft-cabin tube, all small triangles          ~180,000 triangles
+//   cabin     aircraft-cabin tube, all small triangles          ~186,000 triangles
 #pragma once
 
 #include "core/scene.h"

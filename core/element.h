@@ -48,6 +48,11 @@ struct Element {
   std::uint32_t face = 0;       ///< surfaces: input polygon; clusters: first in face order
   std::uint32_t face_end = 0;   ///< clusters: one past the last in face order
   std::uint32_t material = 0;   ///< surfaces only
+  /// Leaves: factor applied to the gathered irradiance (row-sum correction, see
+  /// core/row_sums.h; 1 when off). escape: fraction of the hemisphere above the
+  /// element that sees no geometry, estimated by rays (negative until estimated).
+  float gather_scale = 1;
+  float escape = -1;
   double area = 0;              ///< surface area (clusters: total of member polygons)
   Vec3 corner[4];               ///< surfaces with nverts <= 4
   const Vec3* ngon = nullptr;   ///< surfaces with nverts > 4 (top-level polygon only)

@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -67,7 +68,7 @@ class MgfContextTable {
   MgfEntry<T>& current() { return *current_; }
   /// The context with this name; InputError at `at` when it was never defined.
   MgfEntry<T>& get(std::string_view name, const SourceLoc& at) {
-    const auto it = named_.find(std::string(name));
+    const auto it = named_.find(name);
     if (it == named_.end())
       throw InputError(at.file, at.line, fmt::format("undefined {} '{}'", kind_, name));
     return *it->second;
@@ -108,7 +109,11 @@ class MgfContextTable {
   MgfEntry<T> unnamed_;
   MgfEntry<T>* current_ = &unnamed_;
   // unique_ptr: entries stay put when the table grows (current_ points into it).
-  std::unordered_map<std::string, std::unique_ptr<MgfEntry<T>>> named_;
+  struct NameHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>()(s); }
+  };
+  std::unordered_map<std::string, std::unique_ptr<MgfEntry<T>>, NameHash, std::equal_to<>> named_;
 };
 
 }  // namespace hrad

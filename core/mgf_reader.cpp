@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -384,8 +385,9 @@ void MgfParser::colour_entity(Args t, const SourceLoc& at) {
       xyz += w * Eigen::Vector3d(ci.x / ci.y, 1.0, (1.0 - ci.x - ci.y) / ci.y);
       grey = grey && ci.grey;
     }
-    if (!(xyz.y() > 0)) throw InputError(at.file, at.line, "cmix: the weights sum to zero");
     const double sum = xyz.sum();
+    if (!(xyz.y() > 0) || !std::isfinite(sum))
+      throw InputError(at.file, at.line, "cmix: the weights sum to zero or overflow");
     c = MgfColour{xyz.x() / sum, xyz.y() / sum, grey || is_equal_energy_grey(xyz.x() / sum,
                                                                             xyz.y() / sum)};
   }
@@ -501,7 +503,8 @@ void MgfParser::primitive(Args t, const SourceLoc& at) {
   };
   auto normal_of = [&](std::string_view name) {
     const Vec3 nv = vertex(name, at).n;
-    if (!(nv.norm() > 0)) fail(fmt::format("vertex '{}' has no normal (needed for the axis)", name));
+    if (!(nv.norm() > 0))
+      fail(fmt::format("vertex '{}' has no normal (needed for the axis)", name));
     return nv;
   };
   if (kw == "sph") {

@@ -1,8 +1,5 @@
 #include "core/obj_reader.h"
 
-#include "core/input_error.h"
-#include "core/scene_builder.h"
-
 #include <fmt/format.h>
 
 #include <array>
@@ -17,6 +14,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
+
+#include "core/input_error.h"
+#include "core/scene_builder.h"
 
 // tinyobjloader, compiled into this file in double precision under a private
 // namespace name. Debian's libtinyobjloader.so is the float build (7 digits would
@@ -168,7 +168,8 @@ std::uint32_t parse_reference(std::string_view tok, std::size_t vertices_so_far,
   for (std::size_t at = tok.find('/'); at != std::string_view::npos; at = tok.find('/', at + 1)) {
     ++parts;
     const std::size_t end = tok.find('/', at + 1);
-    const std::string_view part = tok.substr(at + 1, end == std::string_view::npos ? end : end - at - 1);
+    const std::string_view part =
+        tok.substr(at + 1, end == std::string_view::npos ? end : end - at - 1);
     if (!part.empty() && !parse_integer(part))
       throw InputError(file, line, fmt::format("malformed vertex reference '{}'", tok));
   }
@@ -201,8 +202,9 @@ ObjScan scan_obj(std::string_view text, const std::string& file) {
     const std::string_view kw = tok.empty() ? std::string_view() : tok[0];
     if (kw == "v") {
       if (tok.size() < 4)
-        throw InputError(file, line, fmt::format("a vertex needs 3 coordinates, this one has {}",
-                                                 tok.size() - 1));
+        throw InputError(
+            file, line,
+            fmt::format("a vertex needs 3 coordinates, this one has {}", tok.size() - 1));
       s.sanitized += "v";
       for (int c = 1; c <= 3; ++c) {
         s.coords.push_back(parse_number(tok[c], "coordinate", file, line));
@@ -212,11 +214,11 @@ ObjScan scan_obj(std::string_view text, const std::string& file) {
       s.vertex_line.push_back(line);
     } else if (kw == "f") {
       if (tok.size() < 4)
-        throw InputError(file, line, fmt::format("a face needs at least 3 vertices, this one has {}",
-                                                 tok.size() - 1));
+        throw InputError(
+            file, line,
+            fmt::format("a face needs at least 3 vertices, this one has {}", tok.size() - 1));
       ObjFace f{line, static_cast<std::uint32_t>(s.indices.size()),
-                static_cast<std::uint32_t>(tok.size() - 1),
-                static_cast<int>(s.usemtls.size()) - 1};
+                static_cast<std::uint32_t>(tok.size() - 1), static_cast<int>(s.usemtls.size()) - 1};
       s.sanitized += "f";
       for (std::size_t c = 1; c < tok.size(); ++c) {
         s.indices.push_back(parse_reference(tok[c], s.vertex_line.size(), file, line));
@@ -229,7 +231,8 @@ ObjScan scan_obj(std::string_view text, const std::string& file) {
       const std::string_view l = lines[k];
       const std::size_t from = l.find_first_not_of(" \t", l.find("mtllib") + 6);
       const std::size_t to = l.find_last_not_of(" \t");
-      if (from != std::string_view::npos) s.mtllibs.push_back({std::string(l.substr(from, to + 1 - from)), line});
+      if (from != std::string_view::npos)
+        s.mtllibs.push_back({std::string(l.substr(from, to + 1 - from)), line});
     } else if (kw.empty() || is_one_of(kw, {"vn", "vt", "vp", "g", "o", "s", "mg", "usemap",
                                             "maplib", "lod", "shadow_obj", "trace_obj", "bevel",
                                             "c_interp", "d_interp", "call", "csh"})) {
@@ -325,12 +328,12 @@ void add_materials(const MtlText& mtl, SceneBuilder& b,
     throw InputError(mtl.file, line_in_message(e[0]), "tinyobjloader: " + e[0]);
   // tinyobjloader returns one material per newmtl, or a single unnamed one if none.
   if (mats.size() != std::max<std::size_t>(scan.blocks.size(), 1))
-    throw std::logic_error(fmt::format("obj_reader: {}: tinyobjloader found {} materials, the "
-                                       "pre-scan {}",
-                                       mtl.file, mats.size(), scan.blocks.size()));
+    throw std::logic_error(
+        fmt::format("obj_reader: {}: tinyobjloader found {} materials, the pre-scan {}", mtl.file,
+                    mats.size(), scan.blocks.size()));
   if (scan.stray > 0)
-    b.warn(fmt::format("{}: {} Kd/Ke line(s) before the first newmtl ignored", mtl.file,
-                       scan.stray));
+    b.warn(
+        fmt::format("{}: {} Kd/Ke line(s) before the first newmtl ignored", mtl.file, scan.stray));
   if (scan.blocks.empty()) b.warn(fmt::format("{}: defines no material (no newmtl)", mtl.file));
   std::size_t without_kd = 0;
   for (std::size_t k = 0; k < scan.blocks.size(); ++k) {
@@ -339,8 +342,10 @@ void add_materials(const MtlText& mtl, SceneBuilder& b,
     Material mat;
     mat.name = blk.name;
     for (int c = 0; c < 3; ++c) {
-      if (blk.kd_line > 0) cross_check(blk.kd[c], m.diffuse[c], blk.kd_text[c], mtl.file, blk.kd_line);
-      if (blk.ke_line > 0) cross_check(blk.ke[c], m.emission[c], blk.ke_text[c], mtl.file, blk.ke_line);
+      if (blk.kd_line > 0)
+        cross_check(blk.kd[c], m.diffuse[c], blk.kd_text[c], mtl.file, blk.kd_line);
+      if (blk.ke_line > 0)
+        cross_check(blk.ke[c], m.emission[c], blk.ke_text[c], mtl.file, blk.ke_line);
       mat.reflectance[c] = m.diffuse[c];
       // Ke is radiance L; a Lambertian emitter's exitance is pi * L.
       mat.emission[c] = std::numbers::pi * m.emission[c];
@@ -348,17 +353,18 @@ void add_materials(const MtlText& mtl, SceneBuilder& b,
     if (blk.kd_line == 0) ++without_kd;
     const Rgb& r = mat.reflectance;
     const bool rho_ok = r.isFinite().all() && (r >= 0).all() && (r <= 1).all();
-    const int line = !rho_ok ? (blk.kd_line ? blk.kd_line : blk.line)
-                             : (blk.ke_line ? blk.ke_line : blk.line);
+    const int line =
+        !rho_ok ? (blk.kd_line ? blk.kd_line : blk.line) : (blk.ke_line ? blk.ke_line : blk.line);
     const std::uint32_t id = b.add_material(std::move(mat), {mtl.file, line});
     if (!by_name.try_emplace(blk.name, id).second)
       b.warn(fmt::format("{}:{}: material '{}' is defined again; the first definition is used",
                          mtl.file, blk.line, blk.name));
   }
   if (without_kd > 0)
-    b.warn(fmt::format("{}: {} material(s) without Kd got tinyobjloader's default reflectance "
-                       "(0, or 0.6 with a map_Kd)",
-                       mtl.file, without_kd));
+    b.warn(
+        fmt::format("{}: {} material(s) without Kd got tinyobjloader's default reflectance "
+                    "(0, or 0.6 with a map_Kd)",
+                    mtl.file, without_kd));
 }
 
 Scene build(const ObjScan& scan, const std::string& obj_file, const std::vector<MtlText>& mtls,
@@ -382,9 +388,9 @@ Scene build(const ObjScan& scan, const std::string& obj_file, const std::vector<
 
   const std::vector<double>& v = reader.GetAttrib().vertices;
   if (v.size() != scan.coords.size())
-    throw std::logic_error(fmt::format("obj_reader: {}: tinyobjloader read {} vertices, the "
-                                       "pre-scan {}",
-                                       obj_file, v.size() / 3, scan.vertex_line.size()));
+    throw std::logic_error(
+        fmt::format("obj_reader: {}: tinyobjloader read {} vertices, the pre-scan {}", obj_file,
+                    v.size() / 3, scan.vertex_line.size()));
   for (std::size_t i = 0; i < scan.vertex_line.size(); ++i) {
     const int line = scan.vertex_line[i];
     for (std::size_t c = 0; c < 3; ++c)
@@ -400,24 +406,28 @@ Scene build(const ObjScan& scan, const std::string& obj_file, const std::vector<
   std::map<std::string, std::pair<int, std::size_t>> unknown;  // name -> (first line, faces)
 
   // tinyobjloader keeps faces in file order across shapes; each must be the
-  // pre-scan's face with the same vertices.
+  // pre-scan's face with the same vertices. It stores vertex counts in 8 bits
+  // (a 300-gon is counted 44), so the pre-scan's counts are used, checked mod 256.
   std::size_t next = 0;
   std::vector<std::uint32_t> idx;
   for (const tobj::shape_t& shape : reader.GetShapes()) {
     std::size_t at = 0;
-    for (const unsigned int count : shape.mesh.num_face_vertices) {
-      if (next >= scan.faces.size() || scan.faces[next].count != count)
-        throw std::logic_error(fmt::format("obj_reader: {}: tinyobjloader's face {} differs from "
-                                           "the pre-scan's",
-                                           obj_file, next + 1));
+    for (const unsigned char count8 : shape.mesh.num_face_vertices) {
+      if (next >= scan.faces.size() || count8 != (scan.faces[next].count & 0xffu) ||
+          at + scan.faces[next].count > shape.mesh.indices.size())
+        throw std::logic_error(
+            fmt::format("obj_reader: {}: tinyobjloader's face {} differs from the pre-scan's",
+                        obj_file, next + 1));
       const ObjFace& f = scan.faces[next++];
+      const std::uint32_t count = f.count;
       idx.clear();
       for (std::uint32_t k = 0; k < count; ++k) {
         const int t = shape.mesh.indices[at + k].vertex_index;
         if (t < 0 || static_cast<std::uint32_t>(t) != scan.indices[f.first + k])
-          throw std::logic_error(fmt::format("obj_reader: {}:{}: tinyobjloader's vertex index {} "
-                                             "differs from the pre-scan's {}",
-                                             obj_file, f.line, t, scan.indices[f.first + k]));
+          throw std::logic_error(
+              fmt::format("obj_reader: {}:{}: tinyobjloader's vertex index {} differs from the "
+                          "pre-scan's {}",
+                          obj_file, f.line, t, scan.indices[f.first + k]));
         idx.push_back(static_cast<std::uint32_t>(t));
       }
       at += count;
@@ -436,20 +446,20 @@ Scene build(const ObjScan& scan, const std::string& obj_file, const std::vector<
     }
   }
   if (next != scan.faces.size())
-    throw std::logic_error(fmt::format("obj_reader: {}: tinyobjloader read {} faces, the "
-                                       "pre-scan {}",
-                                       obj_file, next, scan.faces.size()));
+    throw std::logic_error(
+        fmt::format("obj_reader: {}: tinyobjloader read {} faces, the pre-scan {}", obj_file, next,
+                    scan.faces.size()));
 
   for (const auto& [mat, where] : unknown)
-    b.warn(fmt::format("{}:{}: usemtl '{}' names no material {}; its {} face(s) get the "
-                       "default grey",
-                       obj_file, where.first, mat,
-                       mtls.empty() ? "(no material library was loaded)" : "of the .mtl file(s)",
-                       where.second));
+    b.warn(fmt::format(
+        "{}:{}: usemtl '{}' names no material {}; its {} face(s) get the default grey", obj_file,
+        where.first, mat, mtls.empty() ? "(no material library was loaded)" : "of the .mtl file(s)",
+        where.second));
   if (scan.unsupported > 0)
-    b.warn(fmt::format("{}: {} line, point, curve or surface statement(s) ignored: hrad reads "
-                       "polygons only",
-                       obj_file, scan.unsupported));
+    b.warn(
+        fmt::format("{}: {} line, point, curve or surface statement(s) ignored: hrad reads "
+                    "polygons only",
+                    obj_file, scan.unsupported));
   if (scan.unknown > 0)
     b.warn(fmt::format("{}: {} line(s) with unknown statements ignored (the first, line {}: '{}')",
                        obj_file, scan.unknown, scan.first_unknown.line, scan.first_unknown.text));
@@ -462,14 +472,15 @@ std::string read_text(const std::string& path, const std::string& err_file, int 
                       const std::string& what) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(err_file, err_line,
-                     fmt::format("{} {}", what,
-                                 std::filesystem::exists(path, ec) ? "is not a regular file"
-                                                                   : "not found"));
+    throw InputError(
+        err_file, err_line,
+        fmt::format("{} {}", what,
+                    std::filesystem::exists(path, ec) ? "is not a regular file" : "not found"));
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
-  if (!in.good() && !in.eof()) throw InputError(err_file, err_line, fmt::format("cannot read {}", what));
+  if (!in.good() && !in.eof())
+    throw InputError(err_file, err_line, fmt::format("cannot read {}", what));
   return std::move(text).str();
 }
 
@@ -512,8 +523,8 @@ Scene parse_obj(std::string_view obj_text, std::string_view mtl_text,
   const ObjScan scan = scan_obj(obj_text, name_for_errors);
   std::vector<MtlText> mtls;
   if (!mtl_text.empty()) mtls.push_back({mtl_name, std::string(mtl_text)});
-  return build(scan, name_for_errors, mtls,
-               fs::path(name_for_errors).stem().string(), name_for_errors);
+  return build(scan, name_for_errors, mtls, fs::path(name_for_errors).stem().string(),
+               name_for_errors);
 }
 
 }  // namespace hrad

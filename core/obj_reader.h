@@ -17,7 +17,8 @@
 // Errors (InputError naming file and 1-based line; line 0 for the whole file):
 //   - OBJ file that cannot be opened; a NUL byte (binary file);
 //   - a coordinate that is not a plain finite number ("nan", "1e400", "1abc"),
-//     beyond +-1e30, or fewer than 3 coordinates;
+//     beyond +-1e30, or fewer than 3 coordinates; a number tinyobjloader reads
+//     differently from its exact value (hundreds of digits, huge exponents);
 //   - a vertex index of 0, beyond the file's vertex count, or a relative (negative)
 //     index reaching before the first vertex; a face with fewer than 3 vertices;
 //   - a material library named by mtllib that does not exist (error, not warning:
@@ -25,22 +26,25 @@
 //     OBJ file and the mtllib line;
 //   - a bad Kd/Ke (reported at the .mtl file and the Kd/Ke line);
 //   - a scene with no polygon of positive area (SceneBuilder::finish).
+// Material names are one token (newmtl NAME, usemtl NAME); the first definition of
+// a name wins (later ones: counted warning).
 // usemtl of a name no .mtl defines, and faces before any usemtl, get
 // SceneBuilder::default_material() (grey 0.5) with counted warnings.
 //
 // Parsing is done by tinyobjloader (its double-precision build, compiled privately
 // into obj_reader.cpp). It is lenient where hrad must not be: it reads "nan" as 0,
 // "1abc" as 1, keeps "f 1 2 99" with a warning naming the last line of the file,
-// and keeps relative indices before the first vertex as negative numbers. So a
+// keeps relative indices before the first vertex as negative numbers, and counts
+// a face's vertices in 8 bits (a 300-gon is reported as a 44-gon). So a
 // light pre-scan of the text checks every v/f/Kd/Ke statement first (and records
 // line numbers, which tinyobjloader does not give for MTL files); tinyobjloader's
 // results are then cross-checked against the pre-scan.
 #pragma once
 
-#include "core/scene.h"
-
 #include <string>
 #include <string_view>
+
+#include "core/scene.h"
 
 namespace hrad {
 

@@ -19,6 +19,9 @@
 // |                     |        |              | below this fraction of the largest radiosity               |
 // | max_gather_sweeps   | int    | 100000       | hard cap on gather + push-pull sweeps per iteration        |
 // | cluster_receiver    | string | "isotropic"  | how a cluster distributes what it gathers: isotropic       |
+// | row_sums            | string | "clamp"      | leaf row-sum correction: keep, clamp, normalize            |
+// |                     |        |              | (see core/row_sums.h)                                      |
+// | row_sum_rays        | int    | 64           | escape rays per leaf for row_sums = normalize              |
 // | locks_pool          | int    | 0            | hashed locks per class (0: twice the refiner count)        |
 // | trace               | string | ""           | file to record a task trace to ("" = none)                 |
 // | image_width         | int    | 640          | render.png width in pixels (height from the aspect 4:3)    |
@@ -44,6 +47,8 @@ struct SolverOptions {
   double gather_tolerance = 1e-6;
   int max_gather_sweeps = 100000;
   std::string cluster_receiver = "isotropic";
+  std::string row_sums = "clamp";
+  int row_sum_rays = 64;
   int locks_pool = 0;
   std::string trace;
   int image_width = 640;

@@ -195,7 +195,10 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
     throw std::invalid_argument(fmt::format(
         "{}: the configuration must be a JSON object of option keys, not a {}", source,
         j.type_name()));
-  for (const auto& [key, value] : j.items()) {
+  for (const auto& item : j.items()) {
+    // Named references, not a structured binding: clang 14 cannot capture those.
+    const std::string& key = item.key();
+    const nlohmann::json& value = item.value();
     const Row* r = find_row(key);
     if (!r) unknown_key(source, key);
     std::visit(

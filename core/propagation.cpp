@@ -25,7 +25,7 @@ double propagation_sweep(const std::vector<Element*>& elements, int threads) {
     Element& e = **it;
     const auto kids = e.child_span();
     if (kids.empty()) {
-      e.next = e.emission + e.rho * e.next;
+      e.next = e.emission + e.rho * (static_cast<double>(e.gather_scale) * e.next);
     } else {
       Rgb sum = Rgb::Zero();
       for (const Element& k : kids) sum += k.area * k.next;

@@ -3,7 +3,7 @@
 //
 // Gather:    g_e = sum over e's links of transport * B_source   (irradiance)
 // Push:      H_e = H_parent + g_e                                (top-down)
-// Leaf:      B'  = E + rho * H                                   (per channel)
+// Leaf:      B'  = E + rho * s * H      (s: row-sum correction, 1 when off)
 // Pull:      B'_e = area-weighted mean of the children's B'      (bottom-up)
 //
 // Stopping: with c_k the largest change of a sweep relative to the largest

@@ -5,7 +5,9 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <thread>
 
@@ -38,10 +40,15 @@ bool Refiner::splittable(const Element& e) const {
 }
 
 // Which element to refine when both could be: the larger one. Surfaces compare
-// areas; when a cluster is involved, bounding-sphere radii.
+// areas; when a cluster is involved, bounding-sphere radii. Sizes equal to
+// round-off (mirror-image elements, or the same scene at another scale) are a
+// tie, broken by id, so the choice does not depend on the scene's units.
 static bool refine_receiver(const Element& r, const Element& s) {
-  if (!r.is_cluster() && !s.is_cluster()) return r.area >= s.area;
-  return r.radius() >= s.radius();
+  const bool surfaces = !r.is_cluster() && !s.is_cluster();
+  const double a = surfaces ? r.area : r.radius();
+  const double b = surfaces ? s.area : s.radius();
+  if (std::abs(a - b) > 1e-9 * std::max(a, b)) return a > b;
+  return r.id >= s.id;
 }
 
 void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {

@@ -28,6 +28,9 @@ struct IterationStats {
   std::uint64_t rays_skipped = 0;   ///< visibility queries answered without rays
   int gather_sweeps = 0;
   double max_change = 0;            ///< relative radiosity change of the last sweep
+  /// Leaf row sums (total transport gathered, see core/row_sums.h), uncorrected.
+  double row_sum_min = 0, row_sum_max = 0, row_sum_mean = 0;
+  std::uint64_t row_sum_corrected = 0;  ///< leaves whose gathered irradiance was rescaled
 };
 
 struct RunTotals {

@@ -138,7 +138,10 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
       if (cross2(q[a], q[b], q[c]) <= 0) continue;  // reflex corner
       bool inside = false;
       for (std::size_t o : ring) {
-        if (o == a || o == b || o == c) continue;
+        // Copies of the ear's own corners (a polygon with a hole written as one
+        // loop with a seam repeats two vertices) do not block it; other points
+        // block it when inside or on its boundary.
+        if (q[o] == q[a] || q[o] == q[b] || q[o] == q[c]) continue;
         if (cross2(q[a], q[b], q[o]) >= 0 && cross2(q[b], q[c], q[o]) >= 0 &&
             cross2(q[c], q[a], q[o]) >= 0) {
           inside = true;

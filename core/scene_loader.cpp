@@ -1,13 +1,13 @@
 #include "core/scene_loader.h"
 
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
 #include "core/builtin_scenes.h"
 #include "core/input_error.h"
 #include "core/mgf_reader.h"
 #include "core/obj_reader.h"
-
-#include <algorithm>
-#include <cctype>
-#include <filesystem>
 
 namespace hrad {
 

@@ -5,9 +5,9 @@
 // Extensions are compared case-insensitively. Anything else is an InputError.
 #pragma once
 
-#include "core/scene.h"
-
 #include <string>
+
+#include "core/scene.h"
 
 namespace hrad {
 

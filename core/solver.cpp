@@ -6,12 +6,14 @@
 #include "core/propagation.h"
 #include "core/ray_scene.h"
 #include "core/refiner.h"
+#include "core/row_sums.h"
 #include "core/transport.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -32,6 +34,7 @@ struct Solver::Impl {
   Hierarchy hierarchy;
   Transport transport;
   std::unique_ptr<IOracle> oracle;
+  RowSumMode row_sum_mode;
   double emitted_power = 0;  ///< sum over faces of area x largest emission channel
   double total_area = 0;
 
@@ -42,7 +45,8 @@ struct Solver::Impl {
         rays(RayScene::from_scene(s)),
         hierarchy(s, o.threads),
         transport(hierarchy, rays, o.visibility_rays, o.seed),
-        oracle(make_oracle(o.oracle)) {
+        oracle(make_oracle(o.oracle)),
+        row_sum_mode(parse_row_sum_mode(o.row_sums)) {
     for (std::size_t f = 0; f < s.faces.size(); ++f) {
       const double a = s.face_area(f);
       total_area += a;
@@ -61,6 +65,8 @@ Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn prog
   // Names are checked before the (possibly long) hierarchy build.
   make_scheduler(options.scheduler, SchedulerConfig{options.threads, options.block_size});
   make_oracle(options.oracle);
+  parse_row_sum_mode(options.row_sums);
+  if (options.row_sum_rays < 1) throw std::invalid_argument("row_sum_rays must be at least 1");
   impl_ = std::make_unique<Impl>(scene, options, std::move(progress));
 }
 
@@ -111,6 +117,13 @@ RunStats Solver::run() {
                                base + 0.8 / o.iterations);
     t0 = Clock::now();
     std::vector<Element*> elements = m.hierarchy.elements();
+    const RowSumStats rs = apply_row_sums(elements, m.row_sum_mode, m.hierarchy, m.rays,
+                                          o.row_sum_rays, o.seed, o.threads);
+    is.rays_cast += rs.rays_cast;
+    is.row_sum_min = rs.min;
+    is.row_sum_max = rs.max;
+    is.row_sum_mean = rs.area_mean;
+    is.row_sum_corrected = rs.corrected;
     const PropagationResult pr =
         propagate(elements, o.gather_tolerance, o.max_gather_sweeps, o.threads);
     is.propagate_wall_s = since(t0);
@@ -216,6 +229,23 @@ RenderMesh Solver::render_mesh() const {
   for (std::size_t i = 0; i < mesh.radiosity.size(); ++i)
     if (weight[i] > 0) mesh.radiosity[i] /= weight[i];
   return mesh;
+}
+
+std::vector<std::pair<std::uint64_t, std::uint64_t>> Solver::link_ids() const {
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> ids;
+  for (const Element* e : impl_->hierarchy.elements())
+    for (const Link& l : e->links) ids.emplace_back(e->id, l.source->id);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+std::vector<Solver::Leaf> Solver::leaves() const {
+  std::vector<Leaf> out;
+  for (const Element* e : impl_->hierarchy.elements())
+    if (!e->is_cluster() && e->child_span().empty())
+      out.push_back(Leaf{e->id, e->face, e->area, e->center, e->B});
+  std::sort(out.begin(), out.end(), [](const Leaf& a, const Leaf& b) { return a.id < b.id; });
+  return out;
 }
 
 std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {

@@ -35,6 +35,20 @@ class Solver {
 
   /// Leaf elements with vertex-averaged radiosity, for render.png and solution.ply.
   [[nodiscard]] RenderMesh render_mesh() const;
+  /// Every link as (receiver id, source id), sorted: the link set, which must not
+  /// depend on the scheduler or the thread count.
+  [[nodiscard]] std::vector<std::pair<std::uint64_t, std::uint64_t>> link_ids() const;
+
+  /// The leaf surface elements of the solution (for tests and comparisons).
+  struct Leaf {
+    std::uint64_t id;
+    std::uint32_t face;
+    double area;
+    Vec3 center;
+    Rgb radiosity;
+  };
+  [[nodiscard]] std::vector<Leaf> leaves() const;
+
   /// Irradiance (W per unit area) at each probe by a final gather over the solved
   /// radiosity, independent of the mesh at the probe.
   [[nodiscard]] std::vector<Rgb> probe_irradiance(std::span<const Probe> probes) const;

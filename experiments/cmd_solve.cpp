@@ -57,6 +57,12 @@ constexpr OptionFlag kOptionFlags[] = {
     {"--placement", "placement", "POLICY"}, {"--seed", "seed", "N"},
 };
 
+#ifdef __clang__
+constexpr const char* kCompiler = "clang " __clang_version__;
+#else
+constexpr const char* kCompiler = "gcc " __VERSION__;
+#endif
+
 struct SolveArgs {
   std::string scene;
   std::string config, probes, image, out;
@@ -210,7 +216,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
 
     nlohmann::json j = {
         {"hrad", {{"version", kVersion}, {"git_revision", git_revision()},
-                  {"compiler", __VERSION__}}},
+                  {"compiler", kCompiler}}},
         {"command_line", ctx.argv},
         {"started_at", started},
         {"config", options_to_json(options)},
@@ -257,8 +263,9 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
   for (const OptionFlag& f : kOptionFlags) {
     const OptionInfo* info = find_option(f.key);
     const std::string help =
-        fmt::format("{} [config key {}; default {}]", info->help, f.key,
-                    option_value_string(defaults, f.key));
+        fmt::format("{}{} [config key {}; default {}]",
+                    static_cast<char>(std::toupper(static_cast<unsigned char>(info->help[0]))),
+                    info->help.substr(1), f.key, option_value_string(defaults, f.key));
     args->flag_options[f.key] =
         sub->add_option(f.flag, args->flag_values[f.key], help)->type_name(f.value_name);
   }

@@ -23,11 +23,11 @@ int main(int argc, char** argv) {
   CLI::App app{"hrad: a testbed for parallel hierarchical radiosity with clustering.", "hrad"};
   app.set_version_flag("--version", version_string());
   app.require_subcommand(1);
-  app.footer("Run 'hrad COMMAND --help' for the options of a command.");
   register_solve(app, ctx);
   register_experiment(app, ctx);
   register_scenes(app, ctx);
   register_topology(app, ctx);
+  app.footer("Run 'hrad COMMAND --help' for the options of a command.");
 
   try {
     app.parse(argc, argv);

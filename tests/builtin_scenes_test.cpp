@@ -208,7 +208,8 @@ TEST_P(BuiltinDefaults, IsDeterministic) {
   for (std::size_t i = 0; i < a.vertices.size(); ++i) ASSERT_EQ(a.vertices[i], b.vertices[i]);
   EXPECT_EQ(a.indices, b.indices);
   ASSERT_EQ(a.faces.size(), b.faces.size());
-  for (std::size_t f = 0; f < a.faces.size(); ++f) ASSERT_EQ(a.faces[f].material, b.faces[f].material);
+  for (std::size_t f = 0; f < a.faces.size(); ++f)
+    ASSERT_EQ(a.faces[f].material, b.faces[f].material);
 }
 
 INSTANTIATE_TEST_SUITE_P(Builtin, BuiltinDefaults,
@@ -353,7 +354,8 @@ TEST(BuiltinOrientation, CabinFuselageFacesTheAxis) {
 
 TEST(BuiltinOrientation, NothingPokesThroughTheRoom) {
   // Every vertex lies inside the box spanned by the room's own surfaces.
-  for (const std::string spec : {"builtin:office", "builtin:lab?workstations=9", "builtin:cornell"}) {
+  for (const std::string spec :
+       {"builtin:office", "builtin:lab?workstations=9", "builtin:cornell"}) {
     const Scene s = make_builtin(spec);
     std::vector<std::size_t> shell;
     for (const char* m : {"wall", "floor", "ceiling", "white", "red", "green"})

@@ -1,13 +1,16 @@
-#include "core/input_error.h"
 #include "core/obj_reader.h"
-#include "core/scene_loader.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <numbers>
 #include <sstream>
+
+#include "core/input_error.h"
+#include "core/scene_loader.h"
 
 namespace hrad {
 namespace {
@@ -60,7 +63,8 @@ std::vector<std::vector<Vec3>> obj_polygons(const std::string& path) {
       std::vector<Vec3> poly;
       for (std::string ref; ls >> ref;) {
         const long i = std::stol(ref.substr(0, ref.find('/')));
-        poly.push_back(v[static_cast<std::size_t>(i > 0 ? i - 1 : static_cast<long>(v.size()) + i)]);
+        poly.push_back(
+            v[static_cast<std::size_t>(i > 0 ? i - 1 : static_cast<long>(v.size()) + i)]);
       }
       polys.push_back(poly);
     }
@@ -76,10 +80,10 @@ double obj_area(const std::vector<std::vector<Vec3>>& polys, bool diagonal02,
   for (const auto& p : polys) {
     if (p.size() == 4 && relative_nonplanarity(p) > 1e-3) {
       if (non_planar) ++*non_planar;
-      const std::vector<Vec3> t1 = diagonal02 ? std::vector<Vec3>{p[0], p[1], p[2]}
-                                              : std::vector<Vec3>{p[0], p[1], p[3]};
-      const std::vector<Vec3> t2 = diagonal02 ? std::vector<Vec3>{p[0], p[2], p[3]}
-                                              : std::vector<Vec3>{p[1], p[2], p[3]};
+      const std::vector<Vec3> t1 =
+          diagonal02 ? std::vector<Vec3>{p[0], p[1], p[2]} : std::vector<Vec3>{p[0], p[1], p[3]};
+      const std::vector<Vec3> t2 =
+          diagonal02 ? std::vector<Vec3>{p[0], p[2], p[3]} : std::vector<Vec3>{p[1], p[2], p[3]};
       a += polygon_area(t1) + polygon_area(t2);
     } else {
       a += polygon_area(p);
@@ -98,6 +102,13 @@ void expect_area_matches_obj(const Scene& s, const std::string& path, int expect
   const double total = s.total_area();
   const double best = std::min(std::abs(total - a02), std::abs(total - a13));
   EXPECT_LE(best, 1e-9 * total) << "reader " << total << ", obj " << a02 << " / " << a13;
+}
+
+/// "v x y 0\n" with all 17 significant digits.
+std::string fmt_vertex(double x, double y) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "v %.17g %.17g 0\n", x, y);
+  return buf;
 }
 
 const Material* material_named(const Scene& s, const std::string& name) {
@@ -213,13 +224,14 @@ TEST(ObjMaterials, UnknownUsemtlGetsTheDefaultWithACountedWarning) {
   const Scene s = parse_obj(std::string(kTriangle) + "usemtl ghost\nf 1 2 3\nf 3 2 1\n",
                             "newmtl real\nKd 0.2 0.2 0.2\n", "t.obj");
   EXPECT_EQ(s.face_material(0).reflectance.matrix(), Vec3::Constant(0.5));
-  EXPECT_TRUE(has_warning(s, "t.obj:4: usemtl 'ghost' names no material of the .mtl file(s); "
-                             "its 2 face(s)"));
+  EXPECT_TRUE(has_warning(s,
+                          "t.obj:4: usemtl 'ghost' names no material of the .mtl file(s); "
+                          "its 2 face(s)"));
 }
 
 TEST(ObjMaterials, TinyobjloaderWarningsAreSurfacedWithTheFile) {
-  const Scene s =
-      parse_obj(std::string(kTriangle) + "usemtl a\nf 1 2 3\n", "newmtl a\nd 0.5\nTr 0.5\n", "t.obj");
+  const Scene s = parse_obj(std::string(kTriangle) + "usemtl a\nf 1 2 3\n",
+                            "newmtl a\nd 0.5\nTr 0.5\n", "t.obj");
   EXPECT_TRUE(has_warning(s, "t.mtl: tinyobjloader: Both `d` and `Tr`"));
 }
 
@@ -253,6 +265,21 @@ TEST(ObjGeometry, KeepsPlanarQuadsTriangulatesConcavePolygons) {
   EXPECT_TRUE(has_warning(s, "usemtl 'nowhere'"));
 }
 
+TEST(ObjGeometry, PolygonsWithMoreThan255VerticesSurvive) {
+  // tinyobjloader counts face vertices in 8 bits; a 300-gon must stay a 300-gon.
+  const int n = 300;
+  std::string obj;
+  for (int i = 0; i < n; ++i)
+    obj += fmt_vertex(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n));
+  obj += "f";
+  for (int i = 1; i <= n; ++i) obj += " " + std::to_string(i);
+  const Scene s = parse_obj(obj + "\nf 1 2 3\n", "", "t.obj");
+  ASSERT_EQ(s.polygon_count(), 2u);
+  EXPECT_EQ(s.faces[0].count, 300u);
+  EXPECT_NEAR(s.face_area(0), 0.5 * n * std::sin(2 * kPi / n), 1e-12);
+  EXPECT_EQ(s.faces[1].count, 3u);
+}
+
 TEST(ObjGeometry, RelativeIndicesAndLineEndings) {
   // CRLF and lone CR end lines too; the bad index is on line 5 either way.
   for (const std::string nl : {"\n", "\r\n", "\r"}) {
@@ -266,20 +293,23 @@ TEST(ObjGeometry, RelativeIndicesAndLineEndings) {
 }
 
 TEST(ObjGeometry, IgnoredStatementsAreCounted) {
-  const Scene s = parse_obj(std::string(kTriangle) +
-                                "vn 0 0 1\nvt 0 0\ng a\no b\ns 1\nl 1 2\np 1\nfrobnicate 3\nf 1 2 3\n",
-                            "", "t.obj");
+  const Scene s =
+      parse_obj(std::string(kTriangle) +
+                    "vn 0 0 1\nvt 0 0\ng a\no b\ns 1\nl 1 2\np 1\nfrobnicate 3\nf 1 2 3\n",
+                "", "t.obj");
   EXPECT_EQ(s.polygon_count(), 1u);
   EXPECT_TRUE(has_warning(s, "t.obj: 2 line, point, curve or surface statement(s) ignored"));
-  EXPECT_TRUE(has_warning(s, "1 line(s) with unknown statements ignored (the first, line 11: "
-                             "'frobnicate')"));
+  EXPECT_TRUE(has_warning(s,
+                          "1 line(s) with unknown statements ignored (the first, line 11: "
+                          "'frobnicate')"));
 }
 
 // --- errors ----------------------------------------------------------------
 
 TEST(ObjErrors, BadCoordinatesNameTheObjLine) {
   const std::string head = "# c\nv 0 0 0\n";
-  for (const std::string bad : {"1 nan 2", "1e400 0 0", "1 -inf 2", "1abc 2 3", "1e31 0 0", "1 2"}) {
+  for (const std::string bad :
+       {"1 nan 2", "1e400 0 0", "1 -inf 2", "1abc 2 3", "1e31 0 0", "1 2"}) {
     const InputError e = parse_error(head + "v " + bad + "\nv 0 1 0\nf 1 2 3\n");
     EXPECT_EQ(e.file(), "t.obj") << bad;
     EXPECT_EQ(e.line(), 3) << bad << ": " << e.what();
@@ -287,8 +317,8 @@ TEST(ObjErrors, BadCoordinatesNameTheObjLine) {
 }
 
 TEST(ObjErrors, BadIndicesNameTheFaceLine) {
-  for (const std::string bad : {"1 2 99", "1 2 0", "-1 -2 -4", "1 2", "1 2 x", "1 2 3/a/1",
-                                "1 2 99999999999"}) {
+  for (const std::string bad :
+       {"1 2 99", "1 2 0", "-1 -2 -4", "1 2", "1 2 x", "1 2 3/a/1", "1 2 99999999999"}) {
     const InputError e = parse_error(std::string(kTriangle) + "\nf " + bad + "\n");
     EXPECT_EQ(e.line(), 5) << bad << ": " << e.what();
   }

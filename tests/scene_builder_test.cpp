@@ -41,6 +41,24 @@ TEST(SceneBuilder, TriangulatesConcavePolygonPreservingArea) {
   EXPECT_NE(s.warnings[0].find("1 non-planar or non-convex"), std::string::npos);
 }
 
+// MGF and many modellers write a face with a hole as one loop that walks in to the
+// hole along a seam and back out: 4x4 wall, 2x2 window, area 12.
+TEST(SceneBuilder, TriangulatesPolygonWithSeamHole) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  const std::vector<Vec3> outer = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}};
+  const std::vector<Vec3> hole = {{1, 1, 0}, {1, 3, 0}, {3, 3, 0}, {3, 1, 0}};  // clockwise
+  std::vector<std::uint32_t> o, h;
+  for (const Vec3& p : outer) o.push_back(b.add_vertex(p, kHere));
+  for (const Vec3& p : hole) h.push_back(b.add_vertex(p, kHere));
+  const std::vector<std::uint32_t> loop = {o[0], o[1], o[2], o[3], h[0], h[1], h[2], h[3], h[0], o[3]};
+  b.add_polygon(loop, m, kHere);
+  const Scene s = b.finish("f");
+  EXPECT_NEAR(s.total_area(), 12.0, 1e-12);
+  for (std::size_t f = 0; f < s.faces.size(); ++f)
+    EXPECT_GT(s.face_normal(f).z(), 0.99) << "a triangle flipped";
+}
+
 TEST(SceneBuilder, TriangulatesNonPlanarQuad) {
   SceneBuilder b("t", "t");
   const auto m = b.add_material(grey(0.5, 1), kHere);

@@ -77,12 +77,14 @@ void add_fuselage(Shapes& s, const Tube& t, const Palette& p) {
       auto ring = [&](const Vec3& q, int k) { return Vec3(c + (q - c) * (double(k) / rings)); };
       for (int k = 0; k < rings; ++k) {
         const Vec3 a0p = ring(a, k), b0p = ring(b, k), a1p = ring(a, k + 1), b1p = ring(b, k + 1);
-        if (front) {
-          if (k == 0) s.tri(world, c, a1p, b1p, p.bulkhead);
-          else s.quad(world, a0p, a1p, b1p, b0p, p.bulkhead);
+        if (k == 0 && front) {
+          s.tri(world, c, a1p, b1p, p.bulkhead);
+        } else if (k == 0) {
+          s.tri(world, c, b1p, a1p, p.bulkhead);
+        } else if (front) {
+          s.quad(world, a0p, a1p, b1p, b0p, p.bulkhead);
         } else {
-          if (k == 0) s.tri(world, c, b1p, a1p, p.bulkhead);
-          else s.quad(world, b0p, b1p, a1p, a0p, p.bulkhead);
+          s.quad(world, b0p, b1p, a1p, a0p, p.bulkhead);
         }
       }
     }
@@ -117,7 +119,7 @@ void add_seat(Shapes& s, const Frame& f, int cyl, const Palette& p) {
         Facing::Outward, Eigen::Vector3i(6, 2, 6));
   s.box(f, Vec3(-0.22, 0.52, 0.22), Vec3(0.22, 1.15, 0.32), p.fabric, kAllFaces,
         Facing::Outward, Eigen::Vector3i(6, 9, 2));
-  s.box(f, Vec3(-0.2, 1.15, 0.2), Vec3(0.2, 1.3, 0.32), p.trim, kAllFaces & ~kYNeg,
+  s.box(f, Vec3(-0.2, 1.15, 0.23), Vec3(0.2, 1.3, 0.32), p.trim, kAllFaces & ~kYNeg,
         Facing::Outward, Eigen::Vector3i(4, 2, 1));
   for (const double x : {-0.17, 0.17})
     for (const double z : {-0.17, 0.17})

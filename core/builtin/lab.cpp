@@ -91,8 +91,8 @@ void add_chair(Shapes& s, const Frame& f, const Palette& p) {
 
 /// Keyboard on a surface at height y, centred at (0, zc): a base and 65 keys.
 void add_keyboard(Shapes& s, const Frame& f, double y, double zc, const Palette& p) {
-  constexpr double pitch = 0.019, key = 0.016, x0 = -0.2;
-  s.box(f, Vec3(-0.23, y, zc - 0.085), Vec3(0.23, y + 0.03, zc + 0.085), p.beige, kNoBottom);
+  constexpr double pitch = 0.019, key = 0.016, x0 = -(13 * pitch + key) / 2;  // 14 columns
+  s.box(f, Vec3(-0.16, y, zc - 0.085), Vec3(0.16, y + 0.03, zc + 0.085), p.beige, kNoBottom);
   const double ky = y + 0.03;
   auto key_at = [&](double xa, double xb, int row) {
     const double z = zc - 0.07 + row * pitch;

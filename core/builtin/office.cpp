@@ -9,7 +9,7 @@
 // | lights | int  | 12      | ceiling luminaires (1.2 x 0.3 m, exitance 60 W/m²)    |
 // | seed   | int  | 1       | seed of the layout jitter (chair poses, books, clutter) |
 //
-// Polygons: about 5,050 by default (~200 per desk, ~225 per bookshelf, one shelf per
+// Polygons: about 5,100 by default (~200 per desk, ~225 per bookshelf, one shelf per
 // desk column, ~110 for the room, 5 per luminaire); the count grows linearly with
 // `desks` and `lights`.
 //
@@ -166,7 +166,8 @@ Scene make_office(const Args& args) {
   s.box(Frame{}, Vec3::Zero(), Vec3(W, kHeight, D), room, kAllFaces, Facing::Inward,
         Eigen::Vector3i(cells_for(W, 2), cells_for(kHeight, 2), cells_for(D, 2)));
   // Door on the x = 0 wall near the camera's end, whiteboard on the x = W wall.
-  s.box(Frame{}, Vec3(0, 0, D - 2.0), Vec3(0.04, 2.1, D - 1.0), p.door, kAllFaces & ~kXNeg & ~kYNeg);
+  s.box(Frame{}, Vec3(0, 0, D - 2.0), Vec3(0.04, 2.1, D - 1.0), p.door,
+        kAllFaces & ~kXNeg & ~kYNeg);
   s.box(Frame{}, Vec3(W - 0.02, 0.9, D / 2 - 1), Vec3(W, 2.1, D / 2 + 1), p.board,
         kAllFaces & ~kXPos);
 

@@ -182,7 +182,8 @@ void Shapes::prism(const Frame& f, std::span<const Eigen::Vector2d> profile, dou
     const Eigen::Vector2d& a = profile[e];
     const Eigen::Vector2d& b = profile[(e + 1) % k];
     ring.push_back(a);
-    for (int s = 1; s < per_edge; ++s) ring.push_back(a + (b - a) * (static_cast<double>(s) / per_edge));
+    for (int s = 1; s < per_edge; ++s)
+      ring.push_back(a + (b - a) * (static_cast<double>(s) / per_edge));
   }
   const int n = static_cast<int>(ring.size());
   const std::vector<double> zs = ticks(z0, z1, nz);

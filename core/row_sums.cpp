@@ -1,0 +1,99 @@
+#include "core/row_sums.h"
+
+#include "core/hierarchy.h"
+#include "core/ray_scene.h"
+#include "core/transport.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace hrad {
+
+RowSumMode parse_row_sum_mode(const std::string& name) {
+  if (name == "keep") return RowSumMode::Keep;
+  if (name == "clamp") return RowSumMode::Clamp;
+  if (name == "normalize") return RowSumMode::Normalize;
+  throw std::invalid_argument("row_sums must be keep, clamp or normalize, not '" + name + "'");
+}
+
+namespace {
+
+// Fraction of `n` cosine-distributed directions from points on `e` that hit nothing.
+double estimate_escape(const Element& e, const Hierarchy& h, const RayScene& rays, int n,
+                       std::uint64_t seed) {
+  const Vec3 u = e.normal.unitOrthogonal();
+  const Vec3 v = e.normal.cross(u);
+  const std::uint64_t key = child_id(e.id, 0xE5CA7Eu) ^ seed;
+  // Origins step off the surface by twice the ray end-point exclusion and keep 1%
+  // of the element's size away from its edges: a ray must not slip through the
+  // seam of two walls because its first hit fell within the exclusion distance.
+  const double lift = 2 * RayScene::kEndpointEpsilon * rays.scale();
+  int escaped = 0;
+  for (int k = 0; k < n; ++k) {
+    const auto i = static_cast<std::uint64_t>(5 * k);
+    const Vec3 s = h.sample_point(e, hashed_uniform(key, i), hashed_uniform(key, i + 1),
+                                  hashed_uniform(key, i + 2));
+    const Vec3 p = e.center + 0.99 * (s - e.center) + lift * e.normal;
+    const double r1 = hashed_uniform(key, i + 3), r2 = hashed_uniform(key, i + 4);
+    const double r = std::sqrt(r1), phi = 2 * std::numbers::pi * r2;
+    const Vec3 dir = r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(1 - r1) * e.normal;
+    if (!rays.intersect(p, dir)) ++escaped;
+  }
+  return static_cast<double>(escaped) / n;
+}
+
+}  // namespace
+
+RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
+                           const Hierarchy& hierarchy, const RayScene& rays, int escape_rays,
+                           std::uint64_t seed, int threads) {
+  RowSumStats st;
+  // Push the transport totals down: `next` is scratch here (propagation resets it).
+  for (Element* e : elements) {
+    double s = e->parent ? e->parent->next[0] : 0.0;
+    for (const Link& l : e->links) s += l.transport();
+    e->next = Rgb::Constant(s);
+  }
+  std::vector<Element*> leaves;
+  double area = 0;
+  st.min = std::numeric_limits<double>::infinity();
+  for (Element* e : elements) {
+    e->gather_scale = 1;
+    if (e->is_cluster() || !e->child_span().empty()) continue;
+    leaves.push_back(e);
+    const double s = e->next[0];
+    st.min = std::min(st.min, s);
+    st.max = std::max(st.max, s);
+    st.area_mean += e->area * s;
+    area += e->area;
+  }
+  if (area > 0) st.area_mean /= area;
+  if (leaves.empty()) st.min = 0;
+  if (mode == RowSumMode::Keep) return st;
+
+  std::uint64_t rays_cast = 0;
+  const auto n = static_cast<std::ptrdiff_t>(leaves.size());
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) reduction(+ : rays_cast)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Element& e = *leaves[static_cast<std::size_t>(i)];
+    const double s = e.next[0];
+    double target = 1;
+    if (mode == RowSumMode::Normalize) {
+      if (e.escape < 0) {
+        e.escape = static_cast<float>(estimate_escape(e, hierarchy, rays, escape_rays, seed));
+        rays_cast += static_cast<std::uint64_t>(escape_rays);
+      }
+      target = 1.0 - e.escape;
+      if (s > 0) e.gather_scale = static_cast<float>(target / s);
+    } else if (s > target) {
+      e.gather_scale = static_cast<float>(target / s);
+    }
+  }
+  for (const Element* e : leaves) st.corrected += e->gather_scale != 1.0f ? 1 : 0;
+  st.rays_cast = rays_cast;
+  return st;
+}
+
+}  // namespace hrad

@@ -1,0 +1,124 @@
+// `blocked`: the paper's scheduler (Sillion & Hasenfratz 2000, §3.5). One central pool
+// under one lock; a refiner takes a block of up to block_size tasks at once, buffers the
+// tasks it creates in a private table (the driver's `out` vector) and submits them in one
+// locked operation after the block.
+//
+// | parameter  | type | default | meaning                                        |
+// |------------|------|---------|------------------------------------------------|
+// | block_size | int  | 1       | at most this many tasks per take()             |
+//
+// What differs from `stack` with the same block size is the cost under the lock, not the
+// order. The pool is a stack of *chunks*, one per submit():
+//  - submit() copies the batch into a chunk buffer *before* taking the lock; under the
+//    lock it only moves that buffer onto the chunk stack and picks up a recycled buffer
+//    for the thread's next submit: O(1) under the lock whatever the batch size.
+//  - take() copies up to block_size tasks out of the top chunks under the lock (O(block),
+//    never more); an emptied chunk's buffer goes to a spare list for reuse.
+// Buffers circulate pool -> spare list -> a thread's spare (thread_local) -> pool, so in
+// steady state no allocation happens, under the lock or outside it.
+//
+// Order: LIFO over chunks and newest first inside a chunk, i.e. exactly the order of
+// `stack`: depth-first, like the recursion. A take may span chunks.
+//
+// Lock waits are timed only when the lock is contended (try_lock first), as in
+// CentralPool.
+#include "schedulers/scheduler.h"
+
+#include <algorithm>
+#include <chrono>
+#include <mutex>
+#include <vector>
+
+namespace hrad {
+namespace {
+
+// Buffers bigger than this (in tasks) are freed rather than recycled, so a huge initial
+// batch does not stay allocated; and at most kMaxSpares emptied buffers wait for reuse.
+constexpr std::size_t kMaxRecycledCapacity = std::size_t{1} << 14;
+constexpr std::size_t kMaxSpares = 64;
+
+// This thread's buffer for its next submit (shared by all BlockedSchedulers: it is only
+// memory, never holds tasks between calls).
+std::vector<Task>& thread_spare() {
+  thread_local std::vector<Task> spare;
+  return spare;
+}
+
+class BlockedScheduler final : public IScheduler {
+ public:
+  explicit BlockedScheduler(const SchedulerConfig& config)
+      : block_size_(static_cast<std::size_t>(config.block_size)) {
+    chunks_.reserve(kMaxSpares);
+    spares_.reserve(kMaxSpares);
+  }
+
+  std::size_t take(int /*worker*/, std::span<Task> out) override {
+    const std::size_t want = std::min(out.size(), block_size_);
+    std::vector<Task> discard;  // an oversized emptied buffer, freed after unlocking
+    std::size_t n = 0;
+    {
+      std::unique_lock lock = acquire();
+      while (n < want && !chunks_.empty()) {
+        std::vector<Task>& top = chunks_.back();
+        const std::size_t k = std::min(want - n, top.size());
+        std::reverse_copy(top.end() - static_cast<std::ptrdiff_t>(k), top.end(),
+                          out.begin() + static_cast<std::ptrdiff_t>(n));
+        top.resize(top.size() - k);  // Task is trivially destructible: O(1)
+        n += k;
+        if (top.empty()) {
+          if (top.capacity() <= kMaxRecycledCapacity && spares_.size() < kMaxSpares)
+            spares_.push_back(std::move(top));
+          else
+            discard.swap(top);  // a previous discard, if any, is freed here (rare)
+          chunks_.pop_back();
+        }
+      }
+      if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
+    }
+    return n;
+  }
+
+  void submit(int /*worker*/, std::span<const Task> tasks) override {
+    if (tasks.empty()) return;
+    std::vector<Task>& spare = thread_spare();
+    spare.assign(tasks.begin(), tasks.end());  // the copy, outside the lock
+    std::unique_lock lock = acquire();
+    chunks_.push_back(std::move(spare));  // O(1): moves the buffer, not the tasks
+    if (!spares_.empty()) {
+      spare = std::move(spares_.back());  // `spare` was moved from: nothing is freed
+      spares_.pop_back();
+    }
+    ++counters_.submits;
+  }
+
+  [[nodiscard]] SchedulerCounters counters() const override {
+    std::lock_guard lock(mutex_);
+    return counters_;
+  }
+  [[nodiscard]] const char* name() const override { return "blocked"; }
+
+ private:
+  std::unique_lock<std::mutex> acquire() {
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) {
+      const auto t0 = std::chrono::steady_clock::now();
+      lock.lock();
+      counters_.lock_wait_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    return lock;
+  }
+
+  const std::size_t block_size_;
+  mutable std::mutex mutex_;
+  std::vector<std::vector<Task>> chunks_;  // guarded by mutex_; back() is the top
+  std::vector<std::vector<Task>> spares_;  // guarded by mutex_; empty, capacity kept
+  SchedulerCounters counters_;             // guarded by mutex_
+};
+
+const bool registered = register_scheduler("blocked", [](const SchedulerConfig& c) {
+  return std::make_unique<BlockedScheduler>(c);
+});
+
+}  // namespace
+}  // namespace hrad

@@ -1,0 +1,262 @@
+// End-to-end tests of the hrad binary (HRAD_BINARY): help, errors, and real solves
+// into a temporary folder.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("hrad-cli-test-" + std::to_string(::getpid()) + "-" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// Runs `hrad ARGS` in the temporary folder with stdin closed; `env` is prefixed
+  /// to the command ("NAME=value ").
+  Result hrad(const std::string& args, const std::string& env = "") const {
+    const fs::path out = dir_ / ".stdout", err = dir_ / ".stderr";
+    const std::string cmd = "cd '" + dir_.string() + "' && " + env + "'" HRAD_BINARY "' " + args +
+                            " > '" + out.string() + "' 2> '" + err.string() + "' < /dev/null";
+    const int rc = std::system(cmd.c_str());
+    Result r;
+    r.status = (rc != -1 && WIFEXITED(rc)) ? WEXITSTATUS(rc) : -1;
+    r.out = read_text(out);
+    r.err = read_text(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+  }
+
+  /// Files and folders in the temporary folder (0 when a failed run created nothing).
+  [[nodiscard]] int entries() const {
+    int n = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
+    return n;
+  }
+
+  void write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Cli, HelpListsEverySubcommand) {
+  const Result r = hrad("--help");
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const char* sub : {"solve", "experiment", "scenes", "topology", "--version"})
+    EXPECT_TRUE(contains(r.out, sub)) << sub << "\n" << r.out;
+}
+
+TEST_F(Cli, SolveHelpMentionsEveryOption) {
+  const Result r = hrad("solve --help");
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const char* opt :
+       {"--scheduler", "--block-size", "--threads", "--oracle", "--eps", "--min-area",
+        "--iterations", "--pin", "--placement", "--probes", "--image", "--out", "--seed",
+        "--config", "--set", "--quiet", "SCENE"})
+    EXPECT_TRUE(contains(r.out, opt)) << opt << "\n" << r.out;
+  EXPECT_TRUE(contains(r.out, "default 4"));  // --iterations shows its default
+}
+
+TEST_F(Cli, VersionNamesProgramAndRevision) {
+  const Result r = hrad("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_TRUE(contains(r.out, "hrad ")) << r.out;
+  EXPECT_TRUE(contains(r.out, "git ")) << r.out;
+}
+
+TEST_F(Cli, UnknownOptionIsNamedAndFails) {
+  const Result r = hrad("solve builtin:cornell --no-such-flag 3 --out run");
+  EXPECT_NE(r.status, 0);
+  EXPECT_TRUE(contains(r.err, "--no-such-flag")) << r.err;
+  EXPECT_EQ(entries(), 0);
+  EXPECT_NE(hrad("frobnicate").status, 0);
+}
+
+TEST_F(Cli, MissingSceneFileNamesItAndCreatesNoFolder) {
+  Result r = hrad("solve no_such_scene.obj --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "no_such_scene.obj")) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  // Neither the given folder nor a default results/ folder appears.
+  r = hrad("solve no_such_scene.mgf");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "no_such_scene.mgf")) << r.err;
+  EXPECT_EQ(entries(), 0);
+}
+
+TEST_F(Cli, BadOptionsAreNamedAndCreateNoFolder) {
+  Result r = hrad("solve builtin:cornell --set colour=red --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "colour")) << r.err;
+  r = hrad("solve builtin:cornell --threads 0 --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "threads")) << r.err;
+  r = hrad("solve builtin:cornell --eps abc --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "--eps") && contains(r.err, "abc")) << r.err;
+  r = hrad("solve builtin:cornell --scheduler no-such-scheduler --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "no-such-scheduler")) << r.err;
+  EXPECT_EQ(entries(), 0);
+  write("bad.json", R"({"thread": 2})");
+  r = hrad("solve builtin:cornell --config bad.json --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "bad.json") && contains(r.err, "'thread'")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "run"));
+}
+
+TEST_F(Cli, SolveWritesStatsMeshAndImage) {
+  const Result r = hrad("solve builtin:cornell --iterations 1 --out run");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "run")) << r.out;  // the summary says where results are
+  EXPECT_TRUE(contains(r.out, "links")) << r.out;
+
+  const nlohmann::json j = nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"));
+  for (const char* key : {"hrad", "command_line", "started_at", "config", "scene", "topology",
+                          "iterations", "totals", "warnings", "outputs"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j["hrad"]["git_revision"].is_string());
+  EXPECT_EQ(j["config"]["iterations"], 1);
+  EXPECT_EQ(j["config"]["scheduler"], "stack");
+  EXPECT_EQ(j["scene"]["name"], "cornell");
+  EXPECT_GT(j["scene"]["polygons"].get<int>(), 0);
+  EXPECT_GE(j["scene"]["emitters"].get<int>(), 1);
+  ASSERT_EQ(j["iterations"].size(), 1u);
+  for (const char* key : {"refine_wall_s", "refine_cpu_s", "propagate_wall_s", "links_created",
+                          "links", "elements", "bytes", "peak_rss_bytes", "tasks",
+                          "scheduler_ops", "lock_wait_s", "idle_s", "rays_cast", "rays_skipped",
+                          "gather_sweeps"})
+    EXPECT_TRUE(j["iterations"][0].contains(key)) << key;
+  for (const char* key : {"wall_s", "refine_wall_s", "refine_cpu_s", "links", "elements",
+                          "rays_cast", "rays_skipped", "peak_rss_bytes"})
+    EXPECT_TRUE(j["totals"].contains(key)) << key;
+  EXPECT_GT(j["totals"]["links"].get<long>(), 0);
+  EXPECT_EQ(j["outputs"]["mesh"], "solution.ply");
+  EXPECT_EQ(j["outputs"]["image"], "render.png");
+  EXPECT_EQ(j["command_line"][1], "solve");
+
+  EXPECT_EQ(read_text(dir_ / "run" / "solution.ply").substr(0, 4), "ply\n");
+  EXPECT_EQ(read_text(dir_ / "run" / "render.png").substr(0, 8), "\x89PNG\r\n\x1a\n");
+  // Nothing else: no temporaries, no probes.csv without --probes.
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_ / "run")) ++files;
+  EXPECT_EQ(files, 3);
+}
+
+TEST_F(Cli, PrecedenceConfigFlagsSet) {
+  write("c.json", R"({"iterations": 1, "eps": 0.5, "min_area": 0.01, "seed": 9})");
+  const Result r = hrad(
+      "solve builtin:cornell --config c.json --eps 0.25 --min-area 0.05 --set min_area=0.02 "
+      "--quiet --out run");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;  // --quiet: no summary
+  const nlohmann::json j = nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"));
+  EXPECT_EQ(j["config"]["iterations"], 1);     // config beats the default
+  EXPECT_EQ(j["config"]["seed"], 9);
+  EXPECT_EQ(j["config"]["eps"], 0.25);         // flag beats config
+  EXPECT_EQ(j["config"]["min_area"], 0.02);    // --set beats flag
+  EXPECT_EQ(j["config_file"], "c.json");
+  EXPECT_EQ(j["iterations"].size(), 1u);
+}
+
+TEST_F(Cli, ProbesAndImageElsewhere) {
+  write("p.txt", "# floor and ceiling\n2.78 0.01 2.79 0 1 0\n2.78 5.4 2.79 0 -1 0\n");
+  const Result r = hrad(
+      "solve builtin:cornell --iterations 1 --probes p.txt --image pics/cornell.png --out run "
+      "--set image_width=64");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(read_text(dir_ / "pics" / "cornell.png").substr(0, 4), "\x89PNG");
+  EXPECT_FALSE(fs::exists(dir_ / "run" / "render.png"));
+  const std::string csv = read_text(dir_ / "run" / "probes.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "x,y,z,nx,ny,nz,E_r,E_g,E_b");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+  const nlohmann::json j = nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"));
+  EXPECT_EQ(j["outputs"]["image"], "pics/cornell.png");
+  EXPECT_EQ(j["outputs"]["probes"], "probes.csv");
+}
+
+TEST_F(Cli, FailedWriteIsReportedInStatsAndExitStatus) {
+  write("blocker", "a file, not a folder");
+  const Result r = hrad(
+      "solve builtin:cornell --iterations 1 --image blocker/x.png --out run --set image_width=64");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "blocker")) << r.err;
+  // What was written stays, complete; stats.json records the error; no temporaries.
+  const nlohmann::json j = nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"));
+  EXPECT_TRUE(contains(j.at("error").get<std::string>(), "blocker"));
+  EXPECT_EQ(j["outputs"]["mesh"], "solution.ply");
+  EXPECT_FALSE(j["outputs"].contains("image"));
+  for (const auto& e : fs::directory_iterator(dir_ / "run"))
+    EXPECT_FALSE(contains(e.path().filename().string(), ".tmp")) << e.path();
+}
+
+TEST_F(Cli, BadProbeFileFailsBeforeAnyOutput) {
+  write("p.txt", "1 2 3\n");
+  const Result r = hrad("solve builtin:cornell --probes p.txt --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "p.txt:1")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "run"));
+}
+
+TEST_F(Cli, ScenesListsBuiltinsAndFormats) {
+  const Result r = hrad("scenes");
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const char* s : {"builtin:cornell", "builtin:furnace", "builtin:office", "builtin:lab",
+                        "builtin:cabin", "default", "range", ".obj", ".mgf", "pi * Ke"})
+    EXPECT_TRUE(contains(r.out, s)) << s;
+}
+
+TEST_F(Cli, TopologyHonoursSyntheticMachines) {
+  Result r = hrad("topology");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "NUMA node")) << r.out;
+  r = hrad("topology", "HWLOC_SYNTHETIC='node:2 core:2 pu:1' ");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "2 NUMA nodes, 4 cores")) << r.out;
+}
+
+TEST_F(Cli, ExperimentSaysItIsNotBuiltYet) {
+  Result r = hrad("experiment missing.json");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "missing.json")) << r.err;
+  write("e.json", "{}");
+  r = hrad("experiment e.json");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "not built yet (issue 6)")) << r.err;
+}
+
+}  // namespace

@@ -1,0 +1,372 @@
+// Every registered scheduler, driven the way core/refiner.cpp drives it (an OpenMP team,
+// a pending counter for termination), on a synthetic task tree whose task ids are encoded
+// in the receiver pointer bits (never dereferenced).
+#include "schedulers/scheduler.h"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <chrono>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+namespace hrad {
+namespace {
+
+Task task_for(std::uint32_t id, float priority = 0) {
+  Task t;
+  t.receiver = std::bit_cast<Element*>(static_cast<std::uintptr_t>(id));
+  t.priority = priority;
+  return t;
+}
+std::uint32_t id_of(const Task& t) {
+  return static_cast<std::uint32_t>(std::bit_cast<std::uintptr_t>(t.receiver));
+}
+
+// A random tree in breadth-first numbering: the children of node i are the ids
+// [first[i], first[i] + count[i]). Fan-out 0..4 per node, about `target` nodes in all.
+struct Tree {
+  std::uint32_t roots = 0;
+  std::vector<std::uint32_t> first, count;
+  [[nodiscard]] std::size_t size() const { return first.size(); }
+};
+
+Tree make_tree(std::uint32_t roots, std::uint32_t target, int max_depth, std::uint32_t seed) {
+  Tree t;
+  t.roots = roots;
+  std::vector<int> depth(roots, 0);
+  std::mt19937 rng(seed);
+  std::uint32_t total = roots;
+  for (std::uint32_t i = 0; i < total; ++i) {
+    std::uint32_t fan = depth[i] < max_depth ? rng() % 5 : 0;
+    fan = std::min(fan, target - total);
+    t.first.push_back(total);
+    t.count.push_back(fan);
+    for (std::uint32_t k = 0; k < fan; ++k) depth.push_back(depth[i] + 1);
+    total += fan;
+  }
+  return t;
+}
+
+float priority_of(std::uint32_t id) { return static_cast<float>((id * 2654435761u) % 1024); }
+
+struct RunResult {
+  std::uint64_t executed = 0;
+  std::size_t largest_take = 0;
+  int team_size = 0;
+};
+
+// The driver loop of Refiner::run, with tree expansion in place of refinement. The block
+// buffer is larger than block_size so that the scheduler's own cap is what is tested.
+RunResult run_tree(IScheduler& s, const Tree& tree, int threads, int block_size,
+                   std::vector<std::atomic<std::uint32_t>>& runs) {
+  std::vector<Task> initial;
+  for (std::uint32_t r = 0; r < tree.roots; ++r) initial.push_back(task_for(r, priority_of(r)));
+  std::atomic<std::int64_t> pending{static_cast<std::int64_t>(initial.size())};
+  std::atomic<std::uint64_t> executed{0};
+  std::atomic<std::size_t> largest{0};
+  std::atomic<int> team{0};
+  s.submit(0, initial);
+
+#pragma omp parallel num_threads(threads)
+  {
+    const int w = omp_get_thread_num();
+    if (w == 0) team.store(omp_get_num_threads(), std::memory_order_relaxed);
+    std::vector<Task> block(static_cast<std::size_t>(block_size) + 3);
+    std::vector<Task> out;
+    std::size_t my_largest = 0;
+    std::uint64_t my_executed = 0;
+    for (;;) {
+      const std::size_t n = s.take(w, block);
+      if (n == 0) {
+        if (pending.load(std::memory_order_acquire) == 0) break;
+        std::this_thread::yield();
+        continue;
+      }
+      my_largest = std::max(my_largest, n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t id = id_of(block[i]);
+        if (id >= tree.size()) continue;  // counted as missing below
+        runs[id].fetch_add(1, std::memory_order_relaxed);
+        ++my_executed;
+        for (std::uint32_t c = 0; c < tree.count[id]; ++c) {
+          const std::uint32_t child = tree.first[id] + c;
+          out.push_back(task_for(child, priority_of(child)));
+        }
+      }
+      if (!out.empty()) {
+        pending.fetch_add(static_cast<std::int64_t>(out.size()), std::memory_order_acq_rel);
+        s.submit(w, out);
+        out.clear();
+      }
+      pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel);
+    }
+    executed.fetch_add(my_executed, std::memory_order_relaxed);
+    std::size_t seen = largest.load(std::memory_order_relaxed);
+    while (my_largest > seen && !largest.compare_exchange_weak(seen, my_largest)) {
+    }
+  }
+  return {executed.load(), largest.load(), team.load()};
+}
+
+using TreeParam = std::tuple<std::string, int, int>;  // scheduler, threads, block size
+
+class SchedTree : public ::testing::TestWithParam<TreeParam> {};
+
+TEST_P(SchedTree, EveryTaskRunsExactlyOnce) {
+  const auto& [name, threads, block_size] = GetParam();
+  static const Tree tree = make_tree(16, 50000, 24, 12345);
+  ASSERT_GE(tree.size(), 40000u);
+
+  auto s = make_scheduler(name, SchedulerConfig{threads, block_size});
+  std::vector<std::atomic<std::uint32_t>> runs(tree.size());
+  const RunResult r = run_tree(*s, tree, threads, block_size, runs);
+
+  EXPECT_EQ(r.team_size, threads);
+  EXPECT_EQ(r.executed, tree.size());
+  std::size_t wrong = 0;
+  for (std::size_t id = 0; id < tree.size(); ++id)
+    if (runs[id].load() != 1) ++wrong;
+  EXPECT_EQ(wrong, 0u) << "tasks not run exactly once";
+  EXPECT_GE(r.largest_take, 1u);
+  EXPECT_LE(r.largest_take, static_cast<std::size_t>(block_size));
+
+  const SchedulerCounters c = s->counters();
+  EXPECT_GE(c.takes * static_cast<std::uint64_t>(block_size), tree.size());
+  EXPECT_LE(c.takes, tree.size());
+  EXPECT_GE(c.submits, 1u);
+  EXPECT_LE(c.steals, tree.size());
+  if (threads == 1) {
+    EXPECT_EQ(c.steals, 0u);
+  }
+  EXPECT_GE(c.lock_wait_s, 0.0);
+}
+
+std::vector<TreeParam> all_tree_params() {
+  std::vector<TreeParam> p;
+  for (const std::string& name : scheduler_names())
+    for (int threads : {1, 2, 4, 8})
+      for (int block : {1, 7, 100}) p.emplace_back(name, threads, block);
+  return p;
+}
+
+INSTANTIATE_TEST_SUITE_P(Sched, SchedTree, ::testing::ValuesIn(all_tree_params()),
+                         [](const ::testing::TestParamInfo<TreeParam>& info) {
+                           return std::get<0>(info.param) + "_t" +
+                                  std::to_string(std::get<1>(info.param)) + "_b" +
+                                  std::to_string(std::get<2>(info.param));
+                         });
+
+// Peak parallelism: with 2 refiners and tasks that each spin ~50 us, both refiners are
+// inside a task at the same moment at some point. An attempt lasts ~20 ms, several
+// scheduler time slices, so a briefly busy machine cannot hide the second refiner.
+int peak_busy_once(const std::string& name) {
+  constexpr int kTasks = 400;
+  auto s = make_scheduler(name, SchedulerConfig{2, 1});
+  std::vector<Task> initial;
+  for (std::uint32_t i = 0; i < kTasks; ++i) initial.push_back(task_for(i));
+  std::atomic<std::int64_t> pending{kTasks};
+  std::atomic<int> busy{0}, peak{0};
+  s->submit(0, initial);
+#pragma omp parallel num_threads(2)
+  {
+    const int w = omp_get_thread_num();
+    std::vector<Task> block(1);
+    for (;;) {
+      const std::size_t n = s->take(w, block);
+      if (n == 0) {
+        if (pending.load(std::memory_order_acquire) == 0) break;
+        std::this_thread::yield();
+        continue;
+      }
+      const int now = busy.fetch_add(1, std::memory_order_acq_rel) + 1;
+      int seen = peak.load(std::memory_order_relaxed);
+      while (now > seen && !peak.compare_exchange_weak(seen, now)) {
+      }
+      const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(50);
+      while (std::chrono::steady_clock::now() < until) {
+      }
+      busy.fetch_sub(1, std::memory_order_acq_rel);
+      pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel);
+    }
+  }
+  return peak.load();
+}
+
+class SchedPeak : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SchedPeak, TwoRefinersRunAtOnce) {
+  int best = 0;
+  for (int attempt = 0; attempt < 10 && best < 2; ++attempt)
+    best = std::max(best, peak_busy_once(GetParam()));
+  EXPECT_GT(best, 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Sched, SchedPeak, ::testing::ValuesIn(scheduler_names()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           return info.param;
+                         });
+
+// Single-threaded order checks --------------------------------------------------------
+
+std::vector<std::uint32_t> take_all_ids(IScheduler& s, std::size_t out_size = 1) {
+  std::vector<std::uint32_t> ids;
+  std::vector<Task> block(out_size);
+  while (std::size_t n = s.take(0, block))
+    for (std::size_t i = 0; i < n; ++i) ids.push_back(id_of(block[i]));
+  return ids;
+}
+
+TEST(SchedOrder, PriorityHandsOutLargestFirstTiesInSubmissionOrder) {
+  auto s = make_scheduler("priority", SchedulerConfig{1, 1});
+  const std::vector<float> prio = {3, 1, 4, 1, 5, 9, 2, 6};
+  std::vector<Task> tasks;
+  for (std::uint32_t i = 0; i < prio.size(); ++i) tasks.push_back(task_for(i, prio[i]));
+  s->submit(0, tasks);
+  // 9(5) 6(7) 5(4) 4(2) 3(0) 2(6) 1(1) 1(3)
+  EXPECT_EQ(take_all_ids(*s), (std::vector<std::uint32_t>{5, 7, 4, 2, 0, 6, 1, 3}));
+}
+
+TEST(SchedOrder, FifoInSubmissionOrderStackNewestFirst) {
+  for (const char* name : {"fifo", "stack"}) {
+    auto s = make_scheduler(name, SchedulerConfig{1, 1});
+    std::vector<Task> a = {task_for(0), task_for(1), task_for(2)};
+    std::vector<Task> b = {task_for(3), task_for(4)};
+    s->submit(0, a);
+    s->submit(0, b);
+    const std::vector<std::uint32_t> got = take_all_ids(*s);
+    if (std::string(name) == "fifo")
+      EXPECT_EQ(got, (std::vector<std::uint32_t>{0, 1, 2, 3, 4}));
+    else
+      EXPECT_EQ(got, (std::vector<std::uint32_t>{4, 3, 2, 1, 0}));
+  }
+}
+
+TEST(SchedOrder, BlockedHandsOutExactlyStacksOrder) {
+  // Random batches and takes, interleaved: `blocked` (a stack of chunks) and `stack`
+  // (a stack of tasks) must agree take by take, at several block sizes.
+  for (int block : {1, 2, 3, 10}) {
+    auto stack = make_scheduler("stack", SchedulerConfig{1, block});
+    auto blocked = make_scheduler("blocked", SchedulerConfig{1, block});
+    std::mt19937 rng(static_cast<std::uint32_t>(block));
+    std::uint32_t next = 0;
+    std::vector<Task> batch, a(16), b(16);
+    for (int step = 0; step < 500; ++step) {
+      if (rng() % 2 == 0) {
+        batch.clear();
+        for (std::uint32_t k = rng() % 6; k > 0; --k) batch.push_back(task_for(next++));
+        stack->submit(0, batch);
+        blocked->submit(0, batch);
+      } else {
+        const std::size_t want = 1 + rng() % 16;
+        const std::size_t na = stack->take(0, std::span<Task>(a.data(), want));
+        const std::size_t nb = blocked->take(0, std::span<Task>(b.data(), want));
+        ASSERT_EQ(na, nb) << "block " << block << " step " << step;
+        for (std::size_t i = 0; i < na; ++i) ASSERT_EQ(id_of(a[i]), id_of(b[i]));
+      }
+    }
+    EXPECT_EQ(take_all_ids(*stack, 16), take_all_ids(*blocked, 16));
+  }
+}
+
+TEST(SchedBlocked, AtMostBlockSizePerTake) {
+  auto s = make_scheduler("blocked", SchedulerConfig{1, 5});
+  std::uint32_t next = 0;
+  for (std::size_t chunk : {7u, 1u, 15u}) {
+    std::vector<Task> batch;
+    for (std::size_t k = 0; k < chunk; ++k) batch.push_back(task_for(next++));
+    s->submit(0, batch);
+  }
+  std::vector<Task> out(100);
+  std::vector<std::size_t> sizes;
+  while (std::size_t n = s->take(0, out)) sizes.push_back(n);
+  EXPECT_EQ(sizes, (std::vector<std::size_t>{5, 5, 5, 5, 3}));  // takes span chunks
+  std::vector<Task> small(2);
+  EXPECT_EQ(s->take(0, small), 0u);
+  const SchedulerCounters c = s->counters();
+  EXPECT_EQ(c.takes, 5u);
+  EXPECT_EQ(c.submits, 3u);
+  EXPECT_EQ(c.empty_takes, 2u);
+  EXPECT_EQ(c.lock_wait_s, 0.0);  // one thread: never contended
+}
+
+TEST(SchedBlocked, TakeNeverExceedsTheCallersBuffer) {
+  auto s = make_scheduler("blocked", SchedulerConfig{1, 100});
+  std::vector<Task> batch;
+  for (std::uint32_t i = 0; i < 10; ++i) batch.push_back(task_for(i));
+  s->submit(0, batch);
+  std::vector<Task> out(3);
+  EXPECT_EQ(s->take(0, out), 3u);
+  EXPECT_EQ(id_of(out[0]), 9u);
+}
+
+TEST(SchedStealing, ThiefTakesOldestHalfUpToBlockSize) {
+  // One thread playing both workers in turn (allowed: never at the same time).
+  auto s = make_scheduler("stealing", SchedulerConfig{2, 8});
+  s->submit(0, std::vector<Task>{task_for(1)});  // no owner yet: goes to the inbox
+  std::vector<Task> out(8);
+  ASSERT_EQ(s->take(0, out), 1u);  // worker 0 drains the inbox and now owns deque 0
+  EXPECT_EQ(id_of(out[0]), 1u);
+  std::vector<Task> kids;
+  for (std::uint32_t i = 100; i < 110; ++i) kids.push_back(task_for(i));
+  s->submit(0, kids);  // onto deque 0
+
+  ASSERT_EQ(s->take(1, out), 5u);  // worker 1 steals the oldest half: 100..104
+  for (std::uint32_t i = 0; i < 5; ++i) EXPECT_EQ(id_of(out[i]), 100 + i);
+  ASSERT_EQ(s->take(0, out), 5u);  // the owner pops the newest: 109..105
+  for (std::uint32_t i = 0; i < 5; ++i) EXPECT_EQ(id_of(out[i]), 109 - i);
+  EXPECT_EQ(s->take(0, out), 0u);
+  EXPECT_EQ(s->take(1, out), 0u);
+
+  const SchedulerCounters c = s->counters();
+  EXPECT_EQ(c.steals, 5u);
+  EXPECT_EQ(c.takes, 3u);
+  EXPECT_EQ(c.empty_takes, 2u);
+  EXPECT_EQ(c.submits, 2u);
+  EXPECT_EQ(c.lock_wait_s, 0.0);
+}
+
+TEST(SchedStealing, StealsAtMostBlockSize) {
+  auto s = make_scheduler("stealing", SchedulerConfig{3, 2});
+  std::vector<Task> out(10);
+  s->submit(2, std::vector<Task>{task_for(0)});
+  ASSERT_EQ(s->take(2, out), 1u);  // worker 2 owns deque 2
+  std::vector<Task> kids;
+  for (std::uint32_t i = 1; i <= 9; ++i) kids.push_back(task_for(i));
+  s->submit(2, kids);
+  EXPECT_EQ(s->take(0, out), 2u);  // half would be 5; the block caps it at 2
+  EXPECT_EQ(s->take(1, out), 2u);
+  EXPECT_EQ(s->counters().steals, 4u);
+}
+
+TEST(SchedRegistry, KnowsTheFiveSchedulers) {
+  const std::vector<std::string> names = scheduler_names();
+  for (const char* n : {"stack", "fifo", "priority", "stealing", "blocked"})
+    EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
+  for (const std::string& n : names) {
+    auto s = make_scheduler(n, SchedulerConfig{2, 3});
+    EXPECT_EQ(std::string(s->name()), n);
+  }
+}
+
+TEST(SchedRegistry, UnknownNameThrowsListingNames) {
+  try {
+    (void)make_scheduler("no-such-scheduler", SchedulerConfig{});
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no-such-scheduler"), std::string::npos) << what;
+    for (const std::string& n : scheduler_names())
+      EXPECT_NE(what.find(n), std::string::npos) << n << " missing from: " << what;
+  }
+}
+
+}  // namespace
+}  // namespace hrad
