@@ -14,6 +14,7 @@
 
 #include "core/geometry.h"
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <span>
@@ -59,6 +60,9 @@ struct Element {
   Vec3 normal = Vec3::Zero();   ///< surfaces: unit normal; clusters: zero
   Vec3 center = Vec3::Zero();   ///< surfaces: centroid; clusters: area-weighted centroid
   Aabb box;                     ///< bounds (surfaces too)
+  /// Clusters: sum of member area x max(0, +-n_axis) for +x,-x,+y,-y,+z,-z; the
+  /// directional cluster model's projected area is sum_i |d_i| dir_area[axis i, sign].
+  std::array<float, 6> dir_area{};
   Rgb rho = Rgb::Zero();        ///< reflectance (clusters: area-weighted average)
   Rgb emission = Rgb::Zero();   ///< exitance E (clusters: area-weighted average)
   Rgb B = Rgb::Zero();          ///< radiosity, frozen during refinement
@@ -73,6 +77,15 @@ struct Element {
   [[nodiscard]] std::span<Element> child_span() const {
     Element* c = children.load(std::memory_order_acquire);
     return c ? std::span<Element>(c, child_count) : std::span<Element>();
+  }
+  /// Projected area seen from direction `d` (unit): exact for surfaces; for clusters
+  /// the directional model (exact when every member is axis-aligned).
+  [[nodiscard]] double projected_area(const Vec3& d) const {
+    if (!is_cluster()) return area * std::max(0.0, normal.dot(d));
+    double p = 0;
+    for (int i = 0; i < 3; ++i)
+      p += std::abs(d[i]) * static_cast<double>(dir_area[static_cast<std::size_t>(2 * i + (d[i] < 0))]);
+    return p;
   }
   /// Radius of the bounding sphere around `center` (a cheap size for near-field tests).
   [[nodiscard]] double radius() const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <numeric>
 
 namespace hrad {
@@ -42,6 +43,8 @@ Hierarchy::Hierarchy(const Scene& scene, int workers) : scene_(scene) {
   root_->kind = ElementKind::Cluster;
   build_cluster(*root_, 0, nf, 0);
 
+  face_normal_.resize(nf);
+  for (std::uint32_t f = 0; f < nf; ++f) face_normal_[f] = scene.face_normal(f);
   prefix_area_.assign(nf + 1, 0.0);
   for (std::uint32_t i = 0; i < nf; ++i)
     prefix_area_[i + 1] = prefix_area_[i] + scene.face_area(order_[i]);
@@ -136,6 +139,7 @@ void Hierarchy::build_cluster(Element& c, std::uint32_t begin, std::uint32_t end
 void Hierarchy::finish_cluster(Element& c) {
   c.area = 0;
   c.box = Aabb{};
+  c.dir_area = {};
   Vec3 center = Vec3::Zero();
   Rgb rho = Rgb::Zero(), emission = Rgb::Zero();
   for (Element& k : c.child_span()) {
@@ -144,6 +148,11 @@ void Hierarchy::finish_cluster(Element& c) {
     center += k.area * k.center;
     rho += k.area * k.rho;
     emission += k.area * k.emission;
+    for (std::size_t i = 0; i < 6; ++i) {
+      const double side = i % 2 == 0 ? 1.0 : -1.0;
+      c.dir_area[i] += static_cast<float>(
+          k.is_cluster() ? k.dir_area[i] : k.area * std::max(0.0, side * k.normal[static_cast<int>(i / 2)]));
+    }
   }
   if (c.area > 0) {
     c.center = center / c.area;
@@ -225,17 +234,28 @@ Vec3 Hierarchy::sample_face(std::uint32_t face, double u1, double u2, double u3)
   return (1 - s) * v(0) + s * (1 - u2) * v(tri) + s * u2 * v(tri + 1);
 }
 
-Vec3 Hierarchy::sample_point(const Element& e, double u1, double u2, double u3) const {
+Vec3 Hierarchy::sample_point(const Element& e, double u1, double u2, double u3,
+                             const Vec3* toward) const {
   if (e.is_cluster()) {
     if (e.face == e.face_end) return e.center;
     const double lo = prefix_area_[e.face], hi = prefix_area_[e.face_end];
-    const double target = lo + u3 * (hi - lo);
-    auto it = std::upper_bound(prefix_area_.begin() + e.face, prefix_area_.begin() + e.face_end, target);
-    auto i = static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(it - prefix_area_.begin() - 1, e.face));
-    i = std::min(i, e.face_end - 1);
-    // Reuse u3's leftover precision: remap it within the chosen face's share.
-    const double share = prefix_area_[i + 1] - prefix_area_[i];
-    const double u3b = share > 0 ? std::clamp((target - prefix_area_[i]) / share, 0.0, 1.0) : 0.5;
+    std::uint32_t i = e.face;
+    double u3b = 0.5;
+    double u = u3;
+    for (int attempt = 0; attempt < (toward ? kFacingTries : 1); ++attempt) {
+      const double target = lo + u * (hi - lo);
+      auto it = std::upper_bound(prefix_area_.begin() + e.face,
+                                 prefix_area_.begin() + e.face_end, target);
+      i = static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(it - prefix_area_.begin() - 1, e.face));
+      i = std::min(i, e.face_end - 1);
+      // Reuse u's leftover precision: remap it within the chosen face's share.
+      const double share = prefix_area_[i + 1] - prefix_area_[i];
+      u3b = share > 0 ? std::clamp((target - prefix_area_[i]) / share, 0.0, 1.0) : 0.5;
+      if (!toward) break;
+      const Vec3 p = sample_face(order_[i], u1, u2, u3b);
+      if (face_normal_[order_[i]].dot(*toward - p) > 0) return p;
+      u = std::fmod(u + 0.6180339887498949, 1.0);  // next draw: golden-ratio step
+    }
     return sample_face(order_[i], u1, u2, u3b);
   }
   const auto c = e.corners();
@@ -266,7 +286,8 @@ std::size_t Hierarchy::element_count() const {
 
 std::size_t Hierarchy::element_bytes() const {
   return element_count() * sizeof(Element) + ngon_store_.capacity() * sizeof(Vec3) +
-         order_.capacity() * sizeof(std::uint32_t) + prefix_area_.capacity() * sizeof(double);
+         order_.capacity() * sizeof(std::uint32_t) + prefix_area_.capacity() * sizeof(double) +
+         face_normal_.capacity() * sizeof(Vec3);
 }
 
 }  // namespace hrad

@@ -48,7 +48,15 @@ class Hierarchy {
 
   /// A point on the surface of `e` (on a member polygon for clusters, chosen with
   /// probability proportional to area), from three uniform numbers in [0,1).
-  [[nodiscard]] Vec3 sample_point(const Element& e, double u1, double u2, double u3) const;
+  /// When `toward` is given and `e` is a cluster, the member polygon is redrawn
+  /// (up to kFacingTries times, with numbers derived from u3) until it faces
+  /// `toward`, so that a visibility ray does not start on the far side of the
+  /// cluster's own objects: the cluster model's projected area A/4 already
+  /// accounts for members facing away, and counting their self-occlusion again
+  /// would lose that transport twice.
+  [[nodiscard]] Vec3 sample_point(const Element& e, double u1, double u2, double u3,
+                                  const Vec3* toward = nullptr) const;
+  static constexpr int kFacingTries = 8;
 
   /// Every element, parents before children (a snapshot; call when no refiner runs).
   [[nodiscard]] std::vector<Element*> elements();
@@ -66,6 +74,7 @@ class Hierarchy {
   const Scene& scene_;
   std::vector<std::uint32_t> order_;        ///< faces in cluster order
   std::vector<double> prefix_area_;         ///< prefix sums of face areas in order_
+  std::vector<Vec3> face_normal_;           ///< unit normal of each input polygon
   std::vector<Vec3> ngon_store_;            ///< corners of input polygons with > 4 vertices
   std::vector<std::unique_ptr<Arena>> arenas_;
   Element* root_ = nullptr;

@@ -18,6 +18,7 @@
 // | gather_tolerance    | double | 1e-6         | propagation stops when the estimated remaining change is    |
 // |                     |        |              | below this fraction of the largest radiosity               |
 // | max_gather_sweeps   | int    | 100000       | hard cap on gather + push-pull sweeps per iteration        |
+// | cluster_model       | string | "directional"| cluster projected areas: isotropic (A/4) or directional    |
 // | cluster_receiver    | string | "isotropic"  | how a cluster distributes what it gathers: isotropic       |
 // | row_sums            | string | "clamp"      | leaf row-sum correction: keep, clamp, normalize            |
 // |                     |        |              | (see core/row_sums.h)                                      |
@@ -46,6 +47,7 @@ struct SolverOptions {
   std::uint64_t seed = 1;
   double gather_tolerance = 1e-6;
   int max_gather_sweeps = 100000;
+  std::string cluster_model = "directional";
   std::string cluster_receiver = "isotropic";
   std::string row_sums = "clamp";
   int row_sum_rays = 64;

@@ -43,8 +43,13 @@ const std::vector<Row>& rows() {
        "the largest radiosity"},
       {"max_gather_sweeps", &S::max_gather_sweeps,
        "hard cap on gather + push-pull sweeps per iteration"},
+      {"cluster_model", &S::cluster_model,
+       "cluster projected areas: isotropic (A/4, Sillion 1995) or directional (per axis)"},
       {"cluster_receiver", &S::cluster_receiver,
-       "how a cluster distributes what it gathers to its members (isotropic)"},
+       "how a cluster distributes what it gathers to its members (only isotropic so far)"},
+      {"row_sums", &S::row_sums,
+       "leaf row-sum correction: keep, clamp (at 1) or normalize (to 1 - escape, by rays)"},
+      {"row_sum_rays", &S::row_sum_rays, "escape rays per leaf when row_sums = normalize"},
       {"locks_pool", &S::locks_pool, "hashed locks per lock class (0: twice the refiner count)"},
       {"trace", &S::trace, "file to record a task trace to (empty: none)"},
       {"image_width", &S::image_width, "render.png width in pixels (height: 3/4 of it)"},
@@ -260,7 +265,13 @@ void validate_options(const SolverOptions& o) {
   check(std::isfinite(o.gather_tolerance) && o.gather_tolerance > 0, "gather_tolerance",
         str(o.gather_tolerance), "a finite number > 0");
   check(o.max_gather_sweeps >= 1, "max_gather_sweeps", str(o.max_gather_sweeps), ">= 1");
-  check(!o.cluster_receiver.empty(), "cluster_receiver", "\"\"", "a distribution name");
+  check(o.cluster_model == "isotropic" || o.cluster_model == "directional", "cluster_model",
+        o.cluster_model, "isotropic or directional");
+  check(o.cluster_receiver == "isotropic", "cluster_receiver", o.cluster_receiver,
+        "isotropic (per-member cosines are not implemented yet)");
+  check(o.row_sums == "keep" || o.row_sums == "clamp" || o.row_sums == "normalize", "row_sums",
+        o.row_sums, "one of keep, clamp, normalize");
+  check(o.row_sum_rays >= 1, "row_sum_rays", str(o.row_sum_rays), ">= 1");
   check(o.locks_pool >= 0, "locks_pool", str(o.locks_pool), ">= 0 (0: automatic)");
   check(o.image_width >= 8 && o.image_width <= 16384, "image_width", str(o.image_width),
         "between 8 and 16384");

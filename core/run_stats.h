@@ -24,6 +24,7 @@ struct IterationStats {
   std::uint64_t scheduler_ops = 0;  ///< take + submit calls on the scheduler
   std::map<std::string, double> lock_wait_s;  ///< by lock class: "scheduler", "element", "link"
   double idle_s = 0;                ///< refiner time spent waiting for tasks
+  int peak_parallelism = 0;         ///< most refiners busy at the same moment
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;   ///< visibility queries answered without rays
   int gather_sweeps = 0;

@@ -3,6 +3,7 @@
 #include "core/form_factor.h"
 #include "core/hierarchy.h"
 #include "core/lock_pool.h"
+#include "core/options_io.h"
 #include "core/propagation.h"
 #include "core/ray_scene.h"
 #include "core/refiner.h"
@@ -44,7 +45,7 @@ struct Solver::Impl {
         progress(std::move(p)),
         rays(RayScene::from_scene(s)),
         hierarchy(s, o.threads),
-        transport(hierarchy, rays, o.visibility_rays, o.seed),
+        transport(hierarchy, rays, o.visibility_rays, o.seed, parse_cluster_model(o.cluster_model)),
         oracle(make_oracle(o.oracle)),
         row_sum_mode(parse_row_sum_mode(o.row_sums)) {
     for (std::size_t f = 0; f < s.faces.size(); ++f) {
@@ -56,17 +57,10 @@ struct Solver::Impl {
 };
 
 Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress) {
-  if (options.threads < 1) throw std::invalid_argument("threads must be at least 1");
-  if (options.block_size < 1) throw std::invalid_argument("block_size must be at least 1");
-  if (options.iterations < 1) throw std::invalid_argument("iterations must be at least 1");
-  if (!(options.eps > 0)) throw std::invalid_argument("eps must be positive");
-  if (!(options.min_area >= 0)) throw std::invalid_argument("min_area must be >= 0");
-  if (options.visibility_rays < 0) throw std::invalid_argument("visibility_rays must be >= 0");
+  validate_options(options);
   // Names are checked before the (possibly long) hierarchy build.
   make_scheduler(options.scheduler, SchedulerConfig{options.threads, options.block_size});
   make_oracle(options.oracle);
-  parse_row_sum_mode(options.row_sums);
-  if (options.row_sum_rays < 1) throw std::invalid_argument("row_sum_rays must be at least 1");
   impl_ = std::make_unique<Impl>(scene, options, std::move(progress));
 }
 
@@ -103,6 +97,7 @@ RunStats Solver::run() {
     std::vector<Task>().swap(tasks);
     is.refine_cpu_s = rc.busy_s;
     is.idle_s = rc.idle_s;
+    is.peak_parallelism = rc.peak_parallelism;
     is.tasks = rc.tasks;
     is.links_created = rc.links_created;
     is.rays_cast = rc.rays_cast;

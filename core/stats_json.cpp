@@ -25,6 +25,13 @@ nlohmann::json json_map(const std::map<std::string, V>& m) {
 
 nlohmann::json vec3(const Vec3& v) { return {number(v.x()), number(v.y()), number(v.z())}; }
 
+// Bytes of one structure per item; NaN (written as null) when there are no items.
+double per(const std::map<std::string, std::uint64_t>& bytes, const char* key, std::uint64_t n) {
+  const auto it = bytes.find(key);
+  if (n == 0 || it == bytes.end()) return std::nan("");
+  return static_cast<double>(it->second) / static_cast<double>(n);
+}
+
 nlohmann::json iteration_json(const IterationStats& it) {
   return {
       {"iteration", it.iteration},
@@ -44,6 +51,14 @@ nlohmann::json iteration_json(const IterationStats& it) {
       {"rays_skipped", it.rays_skipped},
       {"gather_sweeps", it.gather_sweeps},
       {"max_change", number(it.max_change)},
+      {"peak_parallelism", it.peak_parallelism},
+      {"bytes_per_link", number(per(it.bytes, "links", it.links))},
+      {"bytes_per_element", number(per(it.bytes, "elements", it.elements))},
+      {"row_sums",
+       {{"min", number(it.row_sum_min)},
+        {"max", number(it.row_sum_max)},
+        {"area_mean", number(it.row_sum_mean)},
+        {"corrected", it.row_sum_corrected}}},
   };
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <numbers>
+#include <stdexcept>
 
 namespace hrad {
 
@@ -40,12 +41,19 @@ double hashed_uniform(std::uint64_t key, std::uint64_t i) {
   return static_cast<double>(mix64(key + 0x9E3779B97F4A7C15ull * (i + 1)) >> 11) * 0x1.0p-53;
 }
 
+ClusterModel parse_cluster_model(const std::string& name) {
+  if (name == "isotropic") return ClusterModel::Isotropic;
+  if (name == "directional") return ClusterModel::Directional;
+  throw std::invalid_argument("cluster_model must be isotropic or directional, not '" + name + "'");
+}
+
 Transport::Transport(const Hierarchy& hierarchy, const RayScene& rays, int visibility_rays,
-                     std::uint64_t seed)
+                     std::uint64_t seed, ClusterModel model)
     : hierarchy_(hierarchy),
       rays_(rays),
       visibility_rays_(visibility_rays),
       seed_(seed),
+      model_(model),
       scale_(hierarchy.scene().bounds().diagonal()),
       plane_tol_(1e-9 * hierarchy.scene().bounds().diagonal()) {}
 
@@ -77,8 +85,12 @@ double Transport::form_factor(const Element& r, const Element& s) const {
   const double dist2 = d.squaredNorm();
   if (dist2 <= 0) return 0;
   const Vec3 dir = d / std::sqrt(dist2);
-  const double proj_s = s.is_cluster() ? 0.25 * s.area : s.area * std::max(0.0, -s.normal.dot(dir));
-  const double cos_r = r.is_cluster() ? 0.25 : std::max(0.0, r.normal.dot(dir));
+  const bool iso = model_ == ClusterModel::Isotropic;
+  const double proj_s = s.is_cluster() && iso ? 0.25 * s.area : s.projected_area(-dir);
+  const double cos_r = !r.is_cluster() ? std::max(0.0, r.normal.dot(dir))
+                       : iso          ? 0.25
+                       : r.area > 0   ? r.projected_area(dir) / r.area
+                                      : 0.0;
   return std::clamp(cos_r * proj_s / (std::numbers::pi * dist2 + proj_s), 0.0, 1.0);
 }
 
@@ -101,9 +113,9 @@ double Transport::visibility(const Element& r, const Element& s, std::uint64_t& 
   for (int k = 0; k < visibility_rays_; ++k) {
     const auto i = static_cast<std::uint64_t>(6 * k);
     const Vec3 a = hierarchy_.sample_point(r, hashed_uniform(key, i), hashed_uniform(key, i + 1),
-                                           hashed_uniform(key, i + 2));
+                                           hashed_uniform(key, i + 2), &s.center);
     const Vec3 b = hierarchy_.sample_point(s, hashed_uniform(key, i + 3), hashed_uniform(key, i + 4),
-                                           hashed_uniform(key, i + 5));
+                                           hashed_uniform(key, i + 5), &r.center);
     if (!rays_.occluded(a, b)) ++open;
   }
   rays += static_cast<std::uint64_t>(visibility_rays_);

@@ -14,6 +14,7 @@
 #include "core/element.h"
 
 #include <cstdint>
+#include <string>
 
 namespace hrad {
 
@@ -28,13 +29,20 @@ enum class PairClass : std::uint8_t {
   Regular,
 };
 
+/// How a cluster's projected area and its members' mean cosine are estimated:
+///  isotropic    A/4 in every direction, members see 1/4 (Sillion 1995);
+///  directional  from the members' areas along +-x, +-y, +-z (exact when every
+///               member is axis-aligned, as in most architecture).
+enum class ClusterModel : std::uint8_t { Isotropic, Directional };
+ClusterModel parse_cluster_model(const std::string& name);
+
 class Transport {
  public:
   /// Gauss points per direction on a surface receiver (n x n point evaluations).
   static constexpr int kQuadratureOrder = 2;
 
   Transport(const Hierarchy& hierarchy, const RayScene& rays, int visibility_rays,
-            std::uint64_t seed);
+            std::uint64_t seed, ClusterModel model = ClusterModel::Directional);
 
   [[nodiscard]] PairClass classify(const Element& r, const Element& s) const;
   /// Unoccluded F_rs in [0,1], receiver-area normalised.
@@ -52,6 +60,7 @@ class Transport {
   const RayScene& rays_;
   int visibility_rays_;
   std::uint64_t seed_;
+  ClusterModel model_;
   double scale_;      ///< scene bounding-box diagonal
   double plane_tol_;  ///< distance below which a point counts as on a plane
 };

@@ -113,7 +113,7 @@ class WsDeque {
     std::int64_t t = top_.load(std::memory_order_relaxed);
     std::size_t n = 0;
     if (t < b) {  // no thief can reach [b, old_b): all ours, no CAS
-      for (std::int64_t i = old_b - 1; i >= b; --i) out[n++] = a->get(i);
+      for (std::int64_t i = old_b - 1; i >= b; --i) a->get(i, out[n++]);
       return n;
     }
     if (t >= old_b) {  // empty: undo the claim
@@ -121,12 +121,12 @@ class WsDeque {
       return 0;
     }
     // b <= t < old_b: (t, old_b) are ours; index t is contended with thieves.
-    for (std::int64_t i = old_b - 1; i > t; --i) out[n++] = a->get(i);
-    const T last = a->get(t);
+    for (std::int64_t i = old_b - 1; i > t; --i) a->get(i, out[n++]);
+    a->get(t, out[n]);  // kept only if the CAS wins
     const std::int64_t contended = t;  // a failed CAS overwrites t
     if (top_.compare_exchange_strong(t, contended + 1, std::memory_order_seq_cst,
                                      std::memory_order_relaxed))
-      out[n++] = last;
+      ++n;
     // top_ is now contended + 1 whoever won; the deque is empty.
     bottom_.store(contended + 1, std::memory_order_release);
     return n;
@@ -139,18 +139,18 @@ class WsDeque {
     return item;
   }
 
-  /// Anyone: tries to take the oldest item.
+  /// Anyone: tries to take the oldest item into `out` (which holds garbage unless the
+  /// result is kSuccess).
   StealResult steal(T& out) {
     std::int64_t t = top_.load(std::memory_order_acquire);
     std::atomic_thread_fence(std::memory_order_seq_cst);
     const std::int64_t b = bottom_.load(std::memory_order_acquire);
     if (t >= b) return StealResult::kEmpty;
     const Array* a = array_.load(std::memory_order_acquire);
-    const T item = a->get(t);
+    a->get(t, out);
     if (!top_.compare_exchange_strong(t, t + 1, std::memory_order_seq_cst,
                                       std::memory_order_relaxed))
       return StealResult::kAbort;
-    out = item;
     return StealResult::kSuccess;
   }
 
@@ -167,7 +167,9 @@ class WsDeque {
   }
 
  private:
-  static constexpr std::size_t kWords = (sizeof(T) + 7) / 8;
+  static constexpr std::size_t kFullWords = sizeof(T) / 8;
+  static constexpr std::size_t kTailBytes = sizeof(T) % 8;
+  static constexpr std::size_t kWords = kFullWords + (kTailBytes > 0 ? 1 : 0);
   using Slot = std::atomic<std::uint64_t>[kWords];
 
   class Array {
@@ -175,19 +177,33 @@ class WsDeque {
     explicit Array(std::size_t capacity)
         : mask_(static_cast<std::int64_t>(capacity) - 1), slots_(new Slot[capacity]) {}
     [[nodiscard]] std::int64_t capacity() const { return mask_ + 1; }
+    // Word by word straight between the slot and the item's bytes: staging the words in
+    // a local array and copying that as a whole costs a store-forwarding stall per item.
     void put(std::int64_t i, const T& item) {
-      std::uint64_t w[kWords] = {};
-      std::memcpy(w, &item, sizeof(T));
       Slot& s = slots_[static_cast<std::size_t>(i & mask_)];
-      for (std::size_t k = 0; k < kWords; ++k) s[k].store(w[k], std::memory_order_relaxed);
+      const auto* src = reinterpret_cast<const unsigned char*>(&item);
+      for (std::size_t k = 0; k < kFullWords; ++k) {
+        std::uint64_t w;
+        std::memcpy(&w, src + 8 * k, 8);
+        s[k].store(w, std::memory_order_relaxed);
+      }
+      if constexpr (kTailBytes > 0) {
+        std::uint64_t w = 0;
+        std::memcpy(&w, src + 8 * kFullWords, kTailBytes);
+        s[kFullWords].store(w, std::memory_order_relaxed);
+      }
     }
-    [[nodiscard]] T get(std::int64_t i) const {
-      std::uint64_t w[kWords];
+    void get(std::int64_t i, T& item) const {
       const Slot& s = slots_[static_cast<std::size_t>(i & mask_)];
-      for (std::size_t k = 0; k < kWords; ++k) w[k] = s[k].load(std::memory_order_relaxed);
-      T item;
-      std::memcpy(&item, w, sizeof(T));
-      return item;
+      auto* dst = reinterpret_cast<unsigned char*>(&item);
+      for (std::size_t k = 0; k < kFullWords; ++k) {
+        const std::uint64_t w = s[k].load(std::memory_order_relaxed);
+        std::memcpy(dst + 8 * k, &w, 8);
+      }
+      if constexpr (kTailBytes > 0) {
+        const std::uint64_t w = s[kFullWords].load(std::memory_order_relaxed);
+        std::memcpy(dst + 8 * kFullWords, &w, kTailBytes);
+      }
     }
 
    private:
@@ -201,7 +217,11 @@ class WsDeque {
     std::int64_t cap = a->capacity();
     while (cap < needed) cap *= 2;
     auto bigger = std::make_unique<Array>(static_cast<std::size_t>(cap));
-    for (std::int64_t i = t; i < b; ++i) bigger->put(i, a->get(i));
+    T item;
+    for (std::int64_t i = t; i < b; ++i) {
+      a->get(i, item);
+      bigger->put(i, item);
+    }
     retired_.emplace_back(a);
     Array* fresh = bigger.release();
     array_.store(fresh, std::memory_order_release);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace hrad {
 namespace {
@@ -55,9 +56,12 @@ TEST(SolverFurnace, NormalizedRowSumsGiveClosedFormEverywhere) {
       const double expected = e / (1 - rho);
       const auto leaves = s.leaves();
       expect_finite_nonnegative(leaves);
-      for (const auto& l : leaves)
+      for (const auto& l : leaves) {
         ASSERT_NEAR(l.radiosity[0], expected, 1e-3 * expected) << spec << " rho " << rho;
-      if (rho == 0.99) EXPECT_GT(st.iterations.front().gather_sweeps, 100);
+      }
+      if (rho == 0.99) {
+        EXPECT_GT(st.iterations.front().gather_sweeps, 100);
+      }
     }
   }
 }
@@ -227,6 +231,49 @@ TEST(SolverLightLeak, DarkRoomStaysDark) {
   ASSERT_GT(lit_area, 0);
   ASSERT_GT(dark_area, 0);
   EXPECT_LT(dark / dark_area, 0.01 * lit / lit_area) << "light leaks into the dark room";
+}
+
+}  // namespace
+}  // namespace hrad
+
+namespace hrad {
+namespace {
+
+// Convergence on the Cornell box: irradiance at interior probes against a fine
+// reference (eps = 2e-5) must fall as eps falls.
+TEST(SolverConvergence, CornellErrorFallsWithEps) {
+  const Scene scene = make_builtin("builtin:cornell");
+  const Aabb b = scene.bounds();
+  std::vector<Probe> probes;
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j)
+      for (const Vec3& n : {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0, -1, 0)}) {
+        const Vec3 t(i / 4.0, 0.5, j / 4.0);
+        probes.push_back({b.lo + b.extent().cwiseProduct(t), n});
+      }
+  auto solve = [&](double eps) {
+    SolverOptions o;
+    o.eps = eps;
+    o.min_area = 1e-5;
+    Solver s(scene, o);
+    s.run();
+    return s.probe_irradiance(probes);
+  };
+  const std::vector<Rgb> ref = solve(2e-5);
+  auto error = [&](const std::vector<Rgb>& e) {
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      num += (e[i] - ref[i]).abs().sum();
+      den += ref[i].abs().sum();
+    }
+    return num / den;
+  };
+  const double coarse = error(solve(1e-2)), mid = error(solve(1e-3)), fine = error(solve(1e-4));
+  EXPECT_LT(mid, coarse);
+  EXPECT_LT(fine, mid);
+  EXPECT_LT(fine, 0.05) << "relative L1 error at eps 1e-4";
+  std::printf("[ Convergence ] relative L1 probe error: eps 1e-2 %.4f, 1e-3 %.4f, 1e-4 %.4f\n",
+              coarse, mid, fine);
 }
 
 }  // namespace

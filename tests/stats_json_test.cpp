@@ -63,7 +63,9 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"scheduler_ops", Kind::Integer},  {"lock_wait_s", Kind::Object},
       {"idle_s", Kind::Number},          {"rays_cast", Kind::Integer},
       {"rays_skipped", Kind::Integer},   {"gather_sweeps", Kind::Integer},
-      {"max_change", Kind::Number},
+      {"max_change", Kind::Number},      {"peak_parallelism", Kind::Integer},
+      {"bytes_per_link", Kind::Number},  {"bytes_per_element", Kind::Number},
+      {"row_sums", Kind::Object},
   };
   ASSERT_TRUE(j.at("iterations").is_array());
   ASSERT_EQ(j["iterations"].size(), 2u);
@@ -77,6 +79,8 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
   const nlohmann::json& second = j["iterations"][1];
   EXPECT_EQ(second["iteration"], 2);
   EXPECT_EQ(second["links_created"], 200);
+  EXPECT_DOUBLE_EQ(second["bytes_per_link"].get<double>(), 8192.0 / 300.0);
+  EXPECT_DOUBLE_EQ(second["bytes_per_element"].get<double>(), 4096.0 / 80.0);
   EXPECT_DOUBLE_EQ(second["refine_cpu_s"].get<double>(), 1.8);
   EXPECT_EQ(second["bytes"]["links"], 8192);
   EXPECT_DOUBLE_EQ(second["lock_wait_s"]["scheduler"].get<double>(), 0.01);

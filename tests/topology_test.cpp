@@ -66,7 +66,9 @@ TEST(Topology, SyntheticTwoNodes) {
   EXPECT_EQ(t.nodes[1].cpus, "2-3");
   EXPECT_NE(t.description.find("node:2 core:2 pu:1"), std::string::npos) << t.description;
   // The variable is gone again: back to this machine.
-  if (!user_set_topology()) EXPECT_FALSE(discover_topology().synthetic);
+  if (!user_set_topology()) {
+    EXPECT_FALSE(discover_topology().synthetic);
+  }
 }
 
 TEST(Topology, SyntheticPackagesWithHyperthreads) {

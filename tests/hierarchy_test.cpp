@@ -1,0 +1,116 @@
+#include "core/builtin_scenes.h"
+#include "core/hierarchy.h"
+#include "core/ray_scene.h"
+#include "core/transport.h"
+#include "tests/solver_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+namespace hrad {
+namespace {
+
+TEST(Hierarchy, ClustersCoverEveryPolygonOnceWithConsistentAreas) {
+  const Scene scene = make_builtin("builtin:office");
+  Hierarchy h(scene, 1);
+  std::multiset<std::uint32_t> faces;
+  std::set<std::uint64_t> ids;
+  for (Element* e : h.elements()) {
+    EXPECT_TRUE(ids.insert(e->id).second) << "duplicate id";
+    if (e->is_cluster()) {
+      double sum = 0;
+      for (const Element& k : e->child_span()) {
+        sum += k.area;
+        EXPECT_EQ(k.parent, e);
+      }
+      EXPECT_NEAR(sum, e->area, 1e-9 * e->area);
+    } else {
+      faces.insert(e->face);
+    }
+  }
+  EXPECT_EQ(faces.size(), scene.faces.size());
+  EXPECT_EQ(std::set<std::uint32_t>(faces.begin(), faces.end()).size(), scene.faces.size());
+  EXPECT_NEAR(h.root().area, scene.total_area(), 1e-9 * scene.total_area());
+}
+
+TEST(Hierarchy, SubdivisionTilesTheParentAndIsAPureFunction) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(test::material(0.5, 1), {"t", 0});
+  b.add_polygon(std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0.2, 1, 0}}, m, {"t", 0});
+  b.add_polygon(std::vector<Vec3>{{0, 0, 1}, {2, 0, 1}, {2.5, 1, 1}, {0, 1.5, 1}}, m, {"t", 0});
+  b.add_polygon(std::vector<Vec3>{{0, 0, 2}, {2, 0, 2}, {3, 1, 2}, {2, 2, 2}, {0, 2, 2}}, m,
+                {"t", 0});
+  const Scene scene = b.finish("t");
+  Hierarchy h1(scene, 1), h2(scene, 1);
+  LockPool locks(2, 1);
+  auto surfaces = [](Hierarchy& h) {
+    std::vector<Element*> out;
+    for (Element* e : h.elements())
+      if (!e->is_cluster()) out.push_back(e);
+    return out;
+  };
+  const auto s1 = surfaces(h1), s2 = surfaces(h2);
+  ASSERT_EQ(s1.size(), 3u);
+  for (std::size_t i = 0; i < s1.size(); ++i) {
+    const auto k1 = h1.subdivide(*s1[i], 0, locks);
+    const auto k2 = h2.subdivide(*s2[i], 0, locks);
+    ASSERT_EQ(k1.size(), k2.size());
+    EXPECT_EQ(k1.size(), s1[i]->nverts == 3 ? 4u : s1[i]->nverts);
+    double area = 0;
+    for (std::size_t c = 0; c < k1.size(); ++c) {
+      area += k1[c].area;
+      EXPECT_EQ(k1[c].id, k2[c].id);
+      EXPECT_TRUE(k1[c].center.isApprox(k2[c].center));
+      EXPECT_GT(k1[c].normal.dot(s1[i]->normal), 0.999999);
+    }
+    EXPECT_NEAR(area, s1[i]->area, 1e-12 * s1[i]->area);
+    // A second call returns the same block (children are built once).
+    EXPECT_EQ(h1.subdivide(*s1[i], 0, locks).data(), k1.data());
+  }
+}
+
+TEST(Transport, BackFacingAndCoplanarPairsAreCulledWithoutRays) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(test::material(0.5, 1), {"t", 0});
+  // Two squares facing away from each other, and two coplanar squares.
+  b.add_polygon(std::vector<Vec3>{{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}, m, {"t", 0});  // -z
+  b.add_polygon(std::vector<Vec3>{{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}, m, {"t", 0});  // +z
+  b.add_polygon(std::vector<Vec3>{{2, 0, 0}, {2, 1, 0}, {3, 1, 0}, {3, 0, 0}}, m, {"t", 0});  // -z
+  const Scene scene = b.finish("t");
+  Hierarchy h(scene, 1);
+  const RayScene rays = RayScene::from_scene(scene);
+  const Transport t(h, rays, 4, 1);
+  std::vector<const Element*> s;
+  for (Element* e : h.elements())
+    if (!e->is_cluster()) s.push_back(e);
+  ASSERT_EQ(s.size(), 3u);
+  auto by_face = [&](std::uint32_t f) {
+    for (const Element* e : s)
+      if (e->face == f) return e;
+    return s[0];
+  };
+  EXPECT_EQ(t.classify(*by_face(0), *by_face(1)), PairClass::Cull);  // back to back
+  EXPECT_EQ(t.classify(*by_face(0), *by_face(2)), PairClass::Cull);  // coplanar
+  EXPECT_EQ(t.classify(*by_face(0), *by_face(0)), PairClass::Cull);  // itself
+}
+
+TEST(Transport, VisibilityDependsOnlyOnTheTwoElements) {
+  const Scene scene = make_builtin("builtin:cornell");
+  Hierarchy h(scene, 1);
+  const RayScene rays = RayScene::from_scene(scene);
+  const Transport t(h, rays, 16, 7);
+  const auto els = h.elements();
+  std::uint64_t n1 = 0, n2 = 0;
+  std::vector<double> first, second;
+  for (std::size_t i = 1; i < els.size(); ++i) first.push_back(t.visibility(*els[i], *els[i - 1], n1));
+  for (std::size_t i = els.size() - 1; i >= 1; --i)
+    second.insert(second.begin(), t.visibility(*els[i], *els[i - 1], n2));
+  EXPECT_EQ(first, second);
+  EXPECT_EQ(n1, n2);
+  // Partial visibility somewhere (the blocks cast shadows).
+  EXPECT_TRUE(std::any_of(first.begin(), first.end(), [](double v) { return v > 0 && v < 1; }));
+}
+
+}  // namespace
+}  // namespace hrad
