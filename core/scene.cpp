@@ -1,6 +1,8 @@
 #include "core/scene.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace hrad {
@@ -43,36 +45,53 @@ bool Scene::is_grey() const {
 }
 
 Camera Scene::default_camera() const {
-  // Look along the axis in which the box is thinnest... no: rooms are usually
-  // viewed along a horizontal axis. We take the up axis to be the one along which
-  // most face area is horizontal (floors and ceilings), and look along the longer
-  // remaining axis from just inside the box's far wall, so closed rooms are seen
-  // from inside, as a photographer would.
+  // Up is +y (the OBJ convention) unless clearly more face area is horizontal in
+  // z (z-up scenes). The camera then looks horizontally into the scene from the
+  // side with the least wall facing it: from outside through an open side (the
+  // Cornell box's missing front wall), else from just inside the least-walled side
+  // of a closed room, so that walls do not hide everything.
   const Aabb b = bounds();
   Vec3 area_by_axis = Vec3::Zero();
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const Vec3 n = face_normal(f);
-    area_by_axis += face_area(f) * n.cwiseAbs();
-  }
-  int up = 1;
-  area_by_axis.maxCoeff(&up);
+  for (std::size_t f = 0; f < faces.size(); ++f) area_by_axis += face_area(f) * face_normal(f).cwiseAbs();
+  const int up = area_by_axis.z() > 1.5 * area_by_axis.y() ? 2 : 1;
   const Vec3 e = b.extent();
-  int a = (up + 1) % 3, c = (up + 2) % 3;
-  // View along the shorter horizontal axis, so the wider one fills the image.
-  const int view = e[a] <= e[c] ? a : c;
-  const int side = view == a ? c : a;
+  const double diag = b.diagonal();
+  int best_axis = -1;
+  double best_sign = 1, best_block = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (axis == up) continue;
+    for (double sign : {1.0, -1.0}) {
+      // Area of faces near this side's boundary plane that face into the box.
+      const double plane = sign > 0 ? b.hi[axis] : b.lo[axis];
+      double block = 0;
+      for (std::size_t f = 0; f < faces.size(); ++f) {
+        const auto p = face_vertices(f);
+        if (std::abs(polygon_centroid(p)[axis] - plane) > 0.02 * e[axis] + 1e-12 * diag) continue;
+        if (face_normal(f)[axis] * sign < -0.5) block += face_area(f);
+      }
+      if (block < best_block - 1e-9 * diag * diag) {
+        best_block = block;
+        best_axis = axis;
+        best_sign = sign;
+      }
+    }
+  }
   Camera cam;
   cam.up = Vec3::Unit(up);
   cam.target = b.center();
-  cam.eye = b.center();
-  // Step back along +view until the wider extent fits a 40 degree field.
-  cam.fov_y_deg = 40.0;
+  const int side = 3 - up - best_axis;  // the other horizontal axis
+  const double side_area = e[side] * e[up];
   const double half = 0.5 * std::max(e[side], e[up]);
-  const double dist = half / std::tan(0.5 * cam.fov_y_deg * std::numbers::pi / 180.0);
-  // Stay inside the box (slightly in front of the far wall) when it is a room,
-  // since walls would otherwise hide everything.
-  cam.eye[view] = std::min(b.center()[view] + dist, b.hi[view] - 1e-3 * b.diagonal());
-  if (cam.eye[view] - b.center()[view] < 0.5 * dist) cam.fov_y_deg = 55.0;
+  cam.eye = b.center();
+  if (best_block < 0.05 * side_area) {
+    cam.fov_y_deg = 40.0;
+    const double dist = half / std::tan(0.5 * cam.fov_y_deg * std::numbers::pi / 180.0);
+    cam.eye[best_axis] = (best_sign > 0 ? b.hi[best_axis] : b.lo[best_axis]) + best_sign * dist;
+  } else {
+    cam.fov_y_deg = 60.0;
+    cam.eye[best_axis] = (best_sign > 0 ? b.hi[best_axis] : b.lo[best_axis]) -
+                         best_sign * 0.02 * e[best_axis];
+  }
   return cam;
 }
 
