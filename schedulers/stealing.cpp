@@ -63,8 +63,9 @@ struct alignas(64) Worker {
   WsDeque<Task> deque;
   // The thread currently acting as this worker (default id: none). Written relaxed by
   // that thread; other threads only compare it with their own id, which it can equal
-  // only if they wrote it themselves.
-  std::atomic<std::thread::id> owner{};
+  // only if they wrote it themselves. It and the fields below, all written by the owner,
+  // get their own cache line, away from the deque's lines that thieves read.
+  alignas(64) std::atomic<std::thread::id> owner{};
   std::uint64_t rng = 0;  // victim choice; touched by the owner only
   OwnerCounter takes, empty_takes, submits, steals;
 };
@@ -145,7 +146,7 @@ class StealingScheduler final : public IScheduler {
   // inbox_size_ is only a hint that spares the lock when the inbox is empty; the mutex
   // orders the task data.
   std::size_t take_from_inbox(std::span<Task> out) {
-    if (inbox_size_.load(std::memory_order_relaxed) == 0) return 0;
+    if (out.empty() || inbox_size_.load(std::memory_order_relaxed) == 0) return 0;
     std::unique_lock lock(inbox_mutex_, std::try_to_lock);
     if (!lock.owns_lock()) return 0;
     const std::size_t n = std::min(out.size(), inbox_.size());

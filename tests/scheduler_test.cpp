@@ -65,15 +65,31 @@ struct RunResult {
 
 // The driver loop of Refiner::run, with tree expansion in place of refinement. The block
 // buffer is larger than block_size so that the scheduler's own cap is what is tested.
+// With `foreign_roots` > 0, the last that many roots are not loaded up front: a thread
+// outside the team submits them one by one (as worker 0, like a solver thread would)
+// while the refiners run; it holds one unit of `pending` until its last submit.
 RunResult run_tree(IScheduler& s, const Tree& tree, int threads, int block_size,
-                   std::vector<std::atomic<std::uint32_t>>& runs) {
+                   std::vector<std::atomic<std::uint32_t>>& runs,
+                   std::uint32_t foreign_roots = 0) {
+  const std::uint32_t loaded = tree.roots - foreign_roots;
   std::vector<Task> initial;
-  for (std::uint32_t r = 0; r < tree.roots; ++r) initial.push_back(task_for(r, priority_of(r)));
-  std::atomic<std::int64_t> pending{static_cast<std::int64_t>(initial.size())};
+  for (std::uint32_t r = 0; r < loaded; ++r) initial.push_back(task_for(r, priority_of(r)));
+  std::atomic<std::int64_t> pending{static_cast<std::int64_t>(loaded + (foreign_roots > 0))};
   std::atomic<std::uint64_t> executed{0};
   std::atomic<std::size_t> largest{0};
   std::atomic<int> team{0};
   s.submit(0, initial);
+  std::thread foreign;
+  if (foreign_roots > 0) {
+    foreign = std::thread([&] {
+      for (std::uint32_t r = loaded; r < tree.roots; ++r) {
+        std::this_thread::sleep_for(std::chrono::microseconds(300));
+        pending.fetch_add(1, std::memory_order_acq_rel);
+        s.submit(0, std::vector<Task>{task_for(r, priority_of(r))});
+      }
+      pending.fetch_sub(1, std::memory_order_acq_rel);
+    });
+  }
 
 #pragma omp parallel num_threads(threads)
   {
@@ -113,6 +129,7 @@ RunResult run_tree(IScheduler& s, const Tree& tree, int threads, int block_size,
     while (my_largest > seen && !largest.compare_exchange_weak(seen, my_largest)) {
     }
   }
+  if (foreign.joinable()) foreign.join();
   return {executed.load(), largest.load(), team.load()};
 }
 
@@ -162,6 +179,27 @@ INSTANTIATE_TEST_SUITE_P(Sched, SchedTree, ::testing::ValuesIn(all_tree_params()
                            return std::get<0>(info.param) + "_t" +
                                   std::to_string(std::get<1>(info.param)) + "_b" +
                                   std::to_string(std::get<2>(info.param));
+                         });
+
+// A thread outside the team submits roots while two refiners run (for `stealing` these
+// go through its inbox, never onto a deque another thread owns).
+class SchedForeign : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SchedForeign, SubmitsFromOutsideTheTeamRunExactlyOnce) {
+  static const Tree tree = make_tree(24, 20000, 24, 777);
+  auto s = make_scheduler(GetParam(), SchedulerConfig{2, 7});
+  std::vector<std::atomic<std::uint32_t>> runs(tree.size());
+  const RunResult r = run_tree(*s, tree, 2, 7, runs, 8);
+  EXPECT_EQ(r.executed, tree.size());
+  std::size_t wrong = 0;
+  for (std::size_t id = 0; id < tree.size(); ++id)
+    if (runs[id].load() != 1) ++wrong;
+  EXPECT_EQ(wrong, 0u) << "tasks not run exactly once";
+}
+
+INSTANTIATE_TEST_SUITE_P(Sched, SchedForeign, ::testing::ValuesIn(scheduler_names()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           return info.param;
                          });
 
 // Peak parallelism: with 2 refiners and tasks that each spin ~50 us, both refiners are
