@@ -16,6 +16,7 @@
 
 #include <array>
 #include <atomic>
+#include <memory>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -69,6 +70,10 @@ struct Element {
   Rgb gathered = Rgb::Zero();   ///< irradiance gathered over this element's own links
   Rgb next = Rgb::Zero();       ///< scratch for the Jacobi update
   std::vector<Link> links;      ///< links where this element is the receiver
+  /// Clusters, with cluster_receiver = cosine only: irradiance arriving along +x, -x,
+  /// +y, -y, +z, -z (on a unit surface facing that way), gathered here plus all that
+  /// the cluster's ancestors gathered; allocated by the propagation.
+  std::unique_ptr<std::array<Rgb, 6>> directional;
 
   [[nodiscard]] bool is_cluster() const { return kind == ElementKind::Cluster; }
   [[nodiscard]] std::span<const Vec3> corners() const {

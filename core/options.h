@@ -19,7 +19,7 @@
 // |                     |        |              | below this fraction of the largest radiosity               |
 // | max_gather_sweeps   | int    | 100000       | hard cap on gather + push-pull sweeps per iteration        |
 // | cluster_model       | string | "directional"| cluster projected areas: isotropic (A/4) or directional    |
-// | cluster_receiver    | string | "isotropic"  | how a cluster distributes what it gathers: isotropic       |
+// | cluster_receiver    | string | "isotropic"  | how a cluster hands on what it gathers: isotropic, cosine  |
 // | row_sums            | string | "clamp"      | leaf row-sum correction: keep, clamp, normalize            |
 // |                     |        |              | (see core/row_sums.h)                                      |
 // | row_sum_rays        | int    | 64           | escape rays per leaf for row_sums = normalize              |

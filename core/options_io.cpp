@@ -46,7 +46,7 @@ const std::vector<Row>& rows() {
       {"cluster_model", &S::cluster_model,
        "cluster projected areas: isotropic (A/4, Sillion 1995) or directional (per axis)"},
       {"cluster_receiver", &S::cluster_receiver,
-       "how a cluster distributes what it gathers to its members (only isotropic so far)"},
+       "how a cluster hands what it gathers to its members: isotropic or cosine"},
       {"row_sums", &S::row_sums,
        "leaf row-sum correction: keep, clamp (at 1) or normalize (to 1 - escape, by rays)"},
       {"row_sum_rays", &S::row_sum_rays, "escape rays per leaf when row_sums = normalize"},
@@ -267,8 +267,8 @@ void validate_options(const SolverOptions& o) {
   check(o.max_gather_sweeps >= 1, "max_gather_sweeps", str(o.max_gather_sweeps), ">= 1");
   check(o.cluster_model == "isotropic" || o.cluster_model == "directional", "cluster_model",
         o.cluster_model, "isotropic or directional");
-  check(o.cluster_receiver == "isotropic", "cluster_receiver", o.cluster_receiver,
-        "isotropic (per-member cosines are not implemented yet)");
+  check(o.cluster_receiver == "isotropic" || o.cluster_receiver == "cosine", "cluster_receiver",
+        o.cluster_receiver, "isotropic or cosine");
   check(o.row_sums == "keep" || o.row_sums == "clamp" || o.row_sums == "normalize", "row_sums",
         o.row_sums, "one of keep, clamp, normalize");
   check(o.row_sum_rays >= 1, "row_sum_rays", str(o.row_sum_rays), ">= 1");

@@ -2,23 +2,68 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace hrad {
 
-double propagation_sweep(const std::vector<Element*>& elements, int threads) {
+ClusterReceiver parse_cluster_receiver(const std::string& name) {
+  if (name == "isotropic") return ClusterReceiver::Isotropic;
+  if (name == "cosine") return ClusterReceiver::Cosine;
+  throw std::invalid_argument("cluster_receiver must be isotropic or cosine, not '" + name + "'");
+}
+
+void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
+                     const std::function<Rgb(const Link&)>& value) {
+  const bool cosine = mode == ClusterReceiver::Cosine;
+  if (cosine) {
+    for (Element* e : elements)
+      if (e->is_cluster() && !e->directional) e->directional = std::make_unique<std::array<Rgb, 6>>();
+  }
   const auto n = static_cast<std::ptrdiff_t>(elements.size());
   // Gather: independent per receiver.
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     Element& e = *elements[static_cast<std::size_t>(i)];
     Rgb g = Rgb::Zero();
-    for (const Link& l : e.links) g += l.transport() * l.source->B;
+    if (cosine && e.is_cluster()) {
+      // Undo the link's mean cosine (projected_area / area) and split the irradiance
+      // a unit surface facing the source would get along the axes.
+      std::array<Rgb, 6>& dir = *e.directional;
+      dir.fill(Rgb::Zero());
+      for (const Link& l : e.links) {
+        const Vec3 d = (l.source->center - e.center).normalized();
+        const double mean_cos = e.area > 0 ? e.projected_area(d) / e.area : 0.0;
+        if (!(mean_cos > 0)) continue;
+        const Rgb facing = value(l) / mean_cos;
+        for (int a = 0; a < 3; ++a)
+          dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
+      }
+    } else {
+      for (const Link& l : e.links) g += value(l);
+    }
     e.gathered = g;
   }
   // Push (parents before children): `next` holds the total irradiance H.
   for (Element* e : elements) {
     e->next = e->gathered + (e->parent ? e->parent->next : Rgb::Zero());
+    if (!cosine || !e->parent || !e->parent->is_cluster()) continue;
+    const std::array<Rgb, 6>& up = *e->parent->directional;
+    if (e->is_cluster()) {
+      for (std::size_t k = 0; k < 6; ++k) (*e->directional)[k] += up[k];
+    } else {
+      for (int a = 0; a < 3; ++a) {
+        const double na = e->normal[a];
+        e->next += std::max(0.0, na) * up[static_cast<std::size_t>(2 * a)] +
+                   std::max(0.0, -na) * up[static_cast<std::size_t>(2 * a + 1)];
+      }
+    }
   }
+}
+
+double propagation_sweep(const std::vector<Element*>& elements, int threads,
+                         ClusterReceiver mode) {
+  gather_and_push(elements, mode, threads,
+                  [](const Link& l) -> Rgb { return l.transport() * l.source->B; });
   // Pull (children before parents): `next` becomes the new radiosity. A parent's H
   // is no longer needed once its children have read it in the push.
   for (auto it = elements.rbegin(); it != elements.rend(); ++it) {
@@ -42,12 +87,12 @@ double propagation_sweep(const std::vector<Element*>& elements, int threads) {
 }
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
-                            int max_sweeps, int threads) {
+                            int max_sweeps, int threads, ClusterReceiver mode) {
   PropagationResult r;
   double previous = 0;
   int growing = 0;
   while (r.sweeps < max_sweeps) {
-    const double c = propagation_sweep(elements, threads);
+    const double c = propagation_sweep(elements, threads, mode);
     ++r.sweeps;
     r.last_change = c;
     if (c < 1e-13) {  // at round-off: nothing left to converge

@@ -14,6 +14,8 @@
 
 #include "core/element.h"
 
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace hrad {
@@ -25,11 +27,29 @@ struct PropagationResult {
   bool diverged = false;   ///< the change grew for many sweeps (row sums above 1)
 };
 
+/// How a cluster receiver hands what it gathers to its members:
+///  Isotropic  every member gets the cluster's mean irradiance (Sillion 1995);
+///  Cosine     each link's irradiance is split along +-x, +-y, +-z by its direction
+///             and a member with normal n gets sum_i max(0, +-n_i) of each part: its
+///             own cosine in the directional model (exact for axis-aligned members).
+///             The total over the members is the same as with Isotropic.
+enum class ClusterReceiver : std::uint8_t { Isotropic, Cosine };
+ClusterReceiver parse_cluster_receiver(const std::string& name);
+
+/// Gather + push: sets `next` of every element to the total irradiance H it
+/// receives from its own and its ancestors' links, each link contributing
+/// value(link) (per unit of transport: transport() x B_source for radiosity,
+/// transport() for row sums). `elements` lists parents before children.
+void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
+                     const std::function<Rgb(const Link&)>& value);
+
 /// `elements` must list parents before children (Hierarchy::elements()).
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
-                            int max_sweeps, int threads);
+                            int max_sweeps, int threads,
+                            ClusterReceiver mode = ClusterReceiver::Isotropic);
 
 /// One Jacobi sweep (gather + push-pull), B <- B'; returns the relative change.
-double propagation_sweep(const std::vector<Element*>& elements, int threads);
+double propagation_sweep(const std::vector<Element*>& elements, int threads,
+                         ClusterReceiver mode = ClusterReceiver::Isotropic);
 
 }  // namespace hrad

@@ -1,6 +1,7 @@
 #include "core/row_sums.h"
 
 #include "core/hierarchy.h"
+#include "core/propagation.h"
 #include "core/ray_scene.h"
 #include "core/transport.h"
 
@@ -47,15 +48,14 @@ double estimate_escape(const Element& e, const Hierarchy& h, const RayScene& ray
 }  // namespace
 
 RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
-                           const Hierarchy& hierarchy, const RayScene& rays, int escape_rays,
-                           std::uint64_t seed, int threads) {
+                           ClusterReceiver receiver, const Hierarchy& hierarchy,
+                           const RayScene& rays, int escape_rays, std::uint64_t seed,
+                           int threads) {
   RowSumStats st;
-  // Push the transport totals down: `next` is scratch here (propagation resets it).
-  for (Element* e : elements) {
-    double s = e->parent ? e->parent->next[0] : 0.0;
-    for (const Link& l : e->links) s += l.transport();
-    e->next = Rgb::Constant(s);
-  }
+  // Push the transport totals down like irradiance from a unit radiosity: `next` is
+  // scratch here (propagation overwrites it).
+  gather_and_push(elements, receiver, threads,
+                  [](const Link& l) -> Rgb { return Rgb::Constant(l.transport()); });
   std::vector<Element*> leaves;
   double area = 0;
   st.min = std::numeric_limits<double>::infinity();

@@ -18,6 +18,7 @@
 #pragma once
 
 #include "core/element.h"
+#include "core/propagation.h"
 
 #include <cstdint>
 #include <string>
@@ -40,8 +41,10 @@ struct RowSumStats {
 };
 
 /// Sets every element's gather_scale (parents before children in `elements`).
+/// `receiver` must be the propagation's, so that the sums are what the leaves gather.
 RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
-                           const Hierarchy& hierarchy, const RayScene& rays, int escape_rays,
-                           std::uint64_t seed, int threads);
+                           ClusterReceiver receiver, const Hierarchy& hierarchy,
+                           const RayScene& rays, int escape_rays, std::uint64_t seed,
+                           int threads);
 
 }  // namespace hrad

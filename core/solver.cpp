@@ -36,6 +36,7 @@ struct Solver::Impl {
   Transport transport;
   std::unique_ptr<IOracle> oracle;
   RowSumMode row_sum_mode;
+  ClusterReceiver receiver_mode;
   double emitted_power = 0;  ///< sum over faces of area x largest emission channel
   double total_area = 0;
 
@@ -47,7 +48,8 @@ struct Solver::Impl {
         hierarchy(s, o.threads),
         transport(hierarchy, rays, o.visibility_rays, o.seed, parse_cluster_model(o.cluster_model)),
         oracle(make_oracle(o.oracle)),
-        row_sum_mode(parse_row_sum_mode(o.row_sums)) {
+        row_sum_mode(parse_row_sum_mode(o.row_sums)),
+        receiver_mode(parse_cluster_receiver(o.cluster_receiver)) {
     for (std::size_t f = 0; f < s.faces.size(); ++f) {
       const double a = s.face_area(f);
       total_area += a;
@@ -112,15 +114,15 @@ RunStats Solver::run() {
                                base + 0.8 / o.iterations);
     t0 = Clock::now();
     std::vector<Element*> elements = m.hierarchy.elements();
-    const RowSumStats rs = apply_row_sums(elements, m.row_sum_mode, m.hierarchy, m.rays,
-                                          o.row_sum_rays, o.seed, o.threads);
+    const RowSumStats rs = apply_row_sums(elements, m.row_sum_mode, m.receiver_mode, m.hierarchy,
+                                          m.rays, o.row_sum_rays, o.seed, o.threads);
     is.rays_cast += rs.rays_cast;
     is.row_sum_min = rs.min;
     is.row_sum_max = rs.max;
     is.row_sum_mean = rs.area_mean;
     is.row_sum_corrected = rs.corrected;
     const PropagationResult pr =
-        propagate(elements, o.gather_tolerance, o.max_gather_sweeps, o.threads);
+        propagate(elements, o.gather_tolerance, o.max_gather_sweeps, o.threads, m.receiver_mode);
     is.propagate_wall_s = since(t0);
     is.gather_sweeps = pr.sweeps;
     is.max_change = pr.last_change;

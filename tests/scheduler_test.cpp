@@ -78,6 +78,7 @@ RunResult run_tree(IScheduler& s, const Tree& tree, int threads, int block_size,
   std::atomic<std::uint64_t> executed{0};
   std::atomic<std::size_t> largest{0};
   std::atomic<int> team{0};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   s.submit(0, initial);
   std::thread foreign;
   if (foreign_roots > 0) {
@@ -103,6 +104,8 @@ RunResult run_tree(IScheduler& s, const Tree& tree, int threads, int block_size,
       const std::size_t n = s.take(w, block);
       if (n == 0) {
         if (pending.load(std::memory_order_acquire) == 0) break;
+        // A lost task would keep `pending` above zero forever: fail instead of hanging.
+        if (std::chrono::steady_clock::now() > deadline) break;
         std::this_thread::yield();
         continue;
       }
