@@ -41,6 +41,9 @@ class LockPool {
     for (const Wait& w : waits_) s += w.seconds;
     return s;
   }
+  [[nodiscard]] double wait_seconds(int worker) const {
+    return waits_[static_cast<std::size_t>(worker)].seconds;
+  }
   [[nodiscard]] std::uint64_t contended() const {
     std::uint64_t n = 0;
     for (const Wait& w : waits_) n += w.count;

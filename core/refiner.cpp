@@ -183,8 +183,10 @@ RefineCounters Refiner::run(IScheduler& scheduler, const std::vector<Task>& init
       }
       const auto t0 = Clock::now();
       for (std::size_t i = 0; i < n; ++i) process(block[i], w, out);
+      ++w.c.takes;
       if (!out.empty()) {
         pending.fetch_add(static_cast<std::int64_t>(out.size()), std::memory_order_acq_rel);
+        ++w.c.submits;
         scheduler.submit(w.id, out);
         out.clear();
       }
@@ -205,6 +207,9 @@ RefineCounters Refiner::run(IScheduler& scheduler, const std::vector<Task>& init
     total.rays_skipped += w.c.rays_skipped;
     total.busy_s += w.c.busy_s;
     total.idle_s += w.c.idle_s;
+    total.takes += w.c.takes;
+    total.submits += w.c.submits;
+    total.per_worker.push_back(w.c);
   }
   total.peak_parallelism = peak.load();
   return total;

@@ -39,6 +39,10 @@ struct RefineCounters {
   double busy_s = 0;                ///< summed over refiners
   double idle_s = 0;                ///< summed over refiners: waiting for tasks
   int peak_parallelism = 0;         ///< most refiners busy at once
+  std::uint64_t takes = 0;          ///< take() calls that returned tasks
+  std::uint64_t submits = 0;        ///< submit() calls
+  /// Per refiner (the fields above, one entry per worker; peak_parallelism unused).
+  std::vector<RefineCounters> per_worker;
 };
 
 class Refiner {

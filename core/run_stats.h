@@ -10,6 +10,17 @@
 
 namespace hrad {
 
+/// One refiner's share of an iteration's refinement stage.
+struct RefinerStats {
+  std::uint64_t tasks = 0;
+  std::uint64_t takes = 0;       ///< scheduler take() calls that returned tasks
+  std::uint64_t submits = 0;     ///< scheduler submit() calls
+  double busy_s = 0;             ///< time spent refining blocks
+  double idle_s = 0;             ///< time spent waiting for tasks
+  double lock_wait_s = 0;        ///< time waiting on the element and link lock pools
+  std::uint64_t rays_cast = 0;
+};
+
 struct IterationStats {
   int iteration = 0;             ///< 1-based
   double refine_wall_s = 0;      ///< wall time of the refinement stage
@@ -25,6 +36,8 @@ struct IterationStats {
   std::map<std::string, double> lock_wait_s;  ///< by lock class: "scheduler", "element", "link"
   double idle_s = 0;                ///< refiner time spent waiting for tasks
   int peak_parallelism = 0;         ///< most refiners busy at the same moment
+  std::uint64_t steals = 0;         ///< tasks taken from another refiner's queue
+  std::vector<RefinerStats> refiners;  ///< per refiner, by OpenMP thread number
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;   ///< visibility queries answered without rays
   int gather_sweeps = 0;

@@ -104,7 +104,15 @@ RunStats Solver::run() {
     is.links_created = rc.links_created;
     is.rays_cast = rc.rays_cast;
     is.rays_skipped = rc.rays_skipped;
+    for (std::size_t w = 0; w < rc.per_worker.size(); ++w) {
+      const RefineCounters& c = rc.per_worker[w];
+      const int id = static_cast<int>(w);
+      is.refiners.push_back(RefinerStats{c.tasks, c.takes, c.submits, c.busy_s, c.idle_s,
+                                         element_locks.wait_seconds(id) + link_locks.wait_seconds(id),
+                                         c.rays_cast});
+    }
     const SchedulerCounters sc = scheduler->counters();
+    is.steals = sc.steals;
     is.scheduler_ops = sc.takes + sc.empty_takes + sc.submits;
     is.lock_wait_s["scheduler"] = sc.lock_wait_s;
     is.lock_wait_s["element"] = element_locks.wait_seconds();

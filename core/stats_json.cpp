@@ -32,6 +32,19 @@ double per(const std::map<std::string, std::uint64_t>& bytes, const char* key, s
   return static_cast<double>(it->second) / static_cast<double>(n);
 }
 
+nlohmann::json refiners_json(const std::vector<RefinerStats>& refiners) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const RefinerStats& r : refiners)
+    out.push_back({{"tasks", r.tasks},
+                   {"takes", r.takes},
+                   {"submits", r.submits},
+                   {"busy_s", number(r.busy_s)},
+                   {"idle_s", number(r.idle_s)},
+                   {"lock_wait_s", number(r.lock_wait_s)},
+                   {"rays_cast", r.rays_cast}});
+  return out;
+}
+
 nlohmann::json iteration_json(const IterationStats& it) {
   return {
       {"iteration", it.iteration},
@@ -52,6 +65,8 @@ nlohmann::json iteration_json(const IterationStats& it) {
       {"gather_sweeps", it.gather_sweeps},
       {"max_change", number(it.max_change)},
       {"peak_parallelism", it.peak_parallelism},
+      {"steals", it.steals},
+      {"refiners", refiners_json(it.refiners)},
       {"bytes_per_link", number(per(it.bytes, "links", it.links))},
       {"bytes_per_element", number(per(it.bytes, "elements", it.elements))},
       {"row_sums",

@@ -64,7 +64,17 @@ TEST(ScheduleIndependence, RefinersRunConcurrently) {
   for (int attempt = 0; attempt < 3 && best < 2; ++attempt) {
     Solver s(scene, o);
     const RunStats st = s.run();
-    best = std::max(best, st.iterations.front().peak_parallelism);
+    const IterationStats& it = st.iterations.front();
+    best = std::max(best, it.peak_parallelism);
+    // The per-refiner figures add up to the iteration's.
+    ASSERT_EQ(it.refiners.size(), 2u);
+    std::uint64_t tasks = 0, rays = 0;
+    for (const RefinerStats& r : it.refiners) {
+      tasks += r.tasks;
+      rays += r.rays_cast;
+    }
+    EXPECT_EQ(tasks, it.tasks);
+    EXPECT_LE(rays, it.rays_cast);  // the iteration also counts row-sum rays
   }
   EXPECT_EQ(best, 2);
 }

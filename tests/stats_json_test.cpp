@@ -33,6 +33,8 @@ RunStats sample_stats() {
     it.rays_skipped = 250;
     it.gather_sweeps = 7;
     it.max_change = 1e-7;
+    it.refiners = {RefinerStats{150, 15, 12, 0.4, 0.01, 0.001, 500},
+                   RefinerStats{150, 16, 11, 0.5, 0.04, 0.002, 500}};
     s.iterations.push_back(it);
   }
   s.totals = {2.0, 1.5, 2.7, 300, 80, 2000, 500, 1u << 20};
@@ -41,13 +43,14 @@ RunStats sample_stats() {
 }
 
 // The keys issue 2 (item 6) requires, with their JSON types.
-enum class Kind { Integer, Number, Object };
+enum class Kind { Integer, Number, Object, Array };
 
 bool has_kind(const nlohmann::json& v, Kind k) {
   switch (k) {
     case Kind::Integer: return v.is_number_integer();
     case Kind::Number: return v.is_number();
     case Kind::Object: return v.is_object();
+    case Kind::Array: return v.is_array();
   }
   return false;
 }
@@ -65,7 +68,8 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"rays_skipped", Kind::Integer},   {"gather_sweeps", Kind::Integer},
       {"max_change", Kind::Number},      {"peak_parallelism", Kind::Integer},
       {"bytes_per_link", Kind::Number},  {"bytes_per_element", Kind::Number},
-      {"row_sums", Kind::Object},
+      {"row_sums", Kind::Object},        {"steals", Kind::Integer},
+      {"refiners", Kind::Array},
   };
   ASSERT_TRUE(j.at("iterations").is_array());
   ASSERT_EQ(j["iterations"].size(), 2u);
@@ -80,6 +84,9 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
   EXPECT_EQ(second["iteration"], 2);
   EXPECT_EQ(second["links_created"], 200);
   EXPECT_DOUBLE_EQ(second["bytes_per_link"].get<double>(), 8192.0 / 300.0);
+  ASSERT_EQ(second["refiners"].size(), 2u);
+  EXPECT_EQ(second["refiners"][1]["takes"], 16);
+  EXPECT_DOUBLE_EQ(second["refiners"][1]["idle_s"].get<double>(), 0.04);
   EXPECT_DOUBLE_EQ(second["bytes_per_element"].get<double>(), 4096.0 / 80.0);
   EXPECT_DOUBLE_EQ(second["refine_cpu_s"].get<double>(), 1.8);
   EXPECT_EQ(second["bytes"]["links"], 8192);
