@@ -23,7 +23,28 @@ double seconds_since(Clock::time_point t0) {
 struct alignas(64) Refiner::Worker {
   int id = 0;
   RefineCounters c;
+  /// Links accepted in the current block, stored after it (see store_links).
+  std::vector<std::pair<Element*, Link>> accepted;
 };
+
+// Stores a block's accepted links at their receivers, one lock acquisition per
+// receiver: refiners working depth-first often accept several links of the same
+// receiver in one block, and taking the hashed lock once per link made the link
+// pool the most contended lock.
+void Refiner::store_links(Worker& w) {
+  auto& a = w.accepted;
+  std::stable_sort(a.begin(), a.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (std::size_t i = 0; i < a.size();) {
+    Element* r = a[i].first;
+    std::size_t j = i;
+    while (j < a.size() && a[j].first == r) ++j;
+    auto guard = link_locks_.lock(r, w.id);
+    for (std::size_t k = i; k < j; ++k) r->links.push_back(a[k].second);
+    i = j;
+  }
+  a.clear();
+}
 
 Refiner::Refiner(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
                  RefineLimits limits, LockPool& element_locks, LockPool& link_locks)
@@ -124,11 +145,8 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   }
 
   if (accept) {
-    {
-      auto guard = link_locks_.lock(&r, w.id);
-      r.links.push_back(Link{&s, static_cast<float>(est.form_factor),
-                             static_cast<float>(est.visibility)});
-    }
+    w.accepted.emplace_back(&r, Link{&s, static_cast<float>(est.form_factor),
+                                      static_cast<float>(est.visibility)});
     if (task.evaluated) ++w.c.links_kept; else ++w.c.links_created;
     return;
   }
@@ -183,6 +201,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, const std::vector<Task>& init
       }
       const auto t0 = Clock::now();
       for (std::size_t i = 0; i < n; ++i) process(block[i], w, out);
+      store_links(w);
       ++w.c.takes;
       if (!out.empty()) {
         pending.fetch_add(static_cast<std::int64_t>(out.size()), std::memory_order_acq_rel);

@@ -61,6 +61,7 @@ class Refiner {
  private:
   struct Worker;
   void process(const Task& task, Worker& w, std::vector<Task>& out);
+  void store_links(Worker& w);
   [[nodiscard]] bool splittable(const Element& e) const;
 
   Hierarchy& hierarchy_;
