@@ -25,6 +25,8 @@ struct alignas(64) Refiner::Worker {
   RefineCounters c;
   /// Links accepted in the current block, stored after it (see store_links).
   std::vector<std::pair<Element*, Link>> accepted;
+  std::uint64_t next_id = 0;  ///< ids of the tasks this worker creates
+  std::vector<TraceRecord> trace;
 };
 
 // Stores a block's accepted links at their receivers, one lock acquisition per
@@ -156,6 +158,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   const float child_priority = static_cast<float>(error / std::max<std::size_t>(kids.size(), 1));
   for (Element& c : kids) {
     Task t;
+    t.id = w.next_id++;
     t.receiver = split_r ? &c : &r;
     t.source = split_r ? &s : &c;
     t.priority = child_priority;
@@ -163,8 +166,12 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   }
 }
 
-RefineCounters Refiner::run(IScheduler& scheduler, const std::vector<Task>& initial, int threads,
-                            int block_size) {
+RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, int threads,
+                            int block_size, int trace_iteration) {
+  const bool tracing = trace_iteration > 0;
+  for (std::size_t i = 0; i < initial.size(); ++i)
+    initial[i].id = (static_cast<std::uint64_t>(trace_iteration) << 40) | i;
+  const auto stage_start = Clock::now();
   std::atomic<std::int64_t> pending{static_cast<std::int64_t>(initial.size())};
   std::atomic<int> busy{0};
   std::atomic<int> peak{0};
@@ -175,6 +182,8 @@ RefineCounters Refiner::run(IScheduler& scheduler, const std::vector<Task>& init
   {
     Worker& w = workers[static_cast<std::size_t>(omp_get_thread_num())];
     w.id = omp_get_thread_num();
+    w.next_id = (static_cast<std::uint64_t>(w.id + 1) << 48) |
+                (static_cast<std::uint64_t>(trace_iteration) << 40);
     std::vector<Task> block(static_cast<std::size_t>(block_size));
     std::vector<Task> out;
     out.reserve(static_cast<std::size_t>(block_size) * 8);
@@ -200,7 +209,29 @@ RefineCounters Refiner::run(IScheduler& scheduler, const std::vector<Task>& init
       while (now_busy > seen && !peak.compare_exchange_weak(seen, now_busy)) {
       }
       const auto t0 = Clock::now();
-      for (std::size_t i = 0; i < n; ++i) process(block[i], w, out);
+      if (tracing) {
+        for (std::size_t i = 0; i < n; ++i) {
+          const auto t_start = Clock::now();
+          const std::size_t before = out.size();
+          const std::uint64_t first_child = w.next_id;
+          process(block[i], w, out);
+          TraceRecord rec;
+          rec.id = block[i].id;
+          rec.first_child = first_child;
+          rec.start_ns = static_cast<std::uint64_t>(
+              std::chrono::duration_cast<std::chrono::nanoseconds>(t_start - stage_start).count());
+          const auto d = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_start);
+          rec.duration_ns = static_cast<std::uint32_t>(
+              std::min<std::int64_t>(d.count(), TraceRecord::kBlockStart - 1));
+          if (i == 0) rec.duration_ns |= TraceRecord::kBlockStart;
+          rec.children = static_cast<std::uint16_t>(out.size() - before);
+          rec.worker = static_cast<std::uint8_t>(w.id);
+          rec.iteration = static_cast<std::uint8_t>(trace_iteration);
+          w.trace.push_back(rec);
+        }
+      } else {
+        for (std::size_t i = 0; i < n; ++i) process(block[i], w, out);
+      }
       store_links(w);
       ++w.c.takes;
       if (!out.empty()) {
@@ -229,6 +260,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, const std::vector<Task>& init
     total.takes += w.c.takes;
     total.submits += w.c.submits;
     total.per_worker.push_back(w.c);
+    total.trace.insert(total.trace.end(), w.trace.begin(), w.trace.end());
   }
   total.peak_parallelism = peak.load();
   return total;

@@ -12,6 +12,7 @@
 
 #include "core/element.h"
 #include "core/lock_pool.h"
+#include "core/trace.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 
@@ -43,6 +44,8 @@ struct RefineCounters {
   std::uint64_t submits = 0;        ///< submit() calls
   /// Per refiner (the fields above, one entry per worker; peak_parallelism unused).
   std::vector<RefineCounters> per_worker;
+  /// One record per task when tracing was asked for (unordered).
+  std::vector<TraceRecord> trace;
 };
 
 class Refiner {
@@ -51,8 +54,10 @@ class Refiner {
           RefineLimits limits, LockPool& element_locks, LockPool& link_locks);
 
   /// Runs one refinement stage from `initial` tasks to completion.
-  RefineCounters run(IScheduler& scheduler, const std::vector<Task>& initial, int threads,
-                     int block_size);
+  /// With `trace_iteration` > 0, records every task (core/trace.h) under that
+  /// iteration number.
+  RefineCounters run(IScheduler& scheduler, std::vector<Task> initial, int threads,
+                     int block_size, int trace_iteration = 0);
 
   /// Tasks for the next iteration: every stored link, removed from its receiver
   /// (call between stages only). Reloaded tasks carry their F and visibility.

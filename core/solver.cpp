@@ -8,11 +8,13 @@
 #include "core/ray_scene.h"
 #include "core/refiner.h"
 #include "core/row_sums.h"
+#include "core/trace.h"
 #include "core/transport.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -82,6 +84,7 @@ RunStats Solver::run() {
   if (m.emitted_power <= 0) {
     stats.warnings.push_back("no face emits light: the solution is zero and nothing was refined");
   }
+  std::vector<TraceRecord> trace;
   std::vector<Task> tasks;
   if (m.emitted_power > 0) tasks.push_back(Task{&m.hierarchy.root(), &m.hierarchy.root()});
 
@@ -94,9 +97,11 @@ RunStats Solver::run() {
     link_locks.reset_counters();
     auto scheduler = make_scheduler(o.scheduler, SchedulerConfig{o.threads, o.block_size});
     auto t0 = Clock::now();
-    const RefineCounters rc = refiner.run(*scheduler, tasks, o.threads, o.block_size);
+    RefineCounters rc = refiner.run(*scheduler, std::move(tasks), o.threads, o.block_size,
+                                    o.trace.empty() ? 0 : it);
+    if (!o.trace.empty()) trace.insert(trace.end(), rc.trace.begin(), rc.trace.end());
     is.refine_wall_s = since(t0);
-    std::vector<Task>().swap(tasks);
+    tasks.clear();
     is.refine_cpu_s = rc.busy_s;
     is.idle_s = rc.idle_s;
     is.peak_parallelism = rc.peak_parallelism;
@@ -155,6 +160,22 @@ RunStats Solver::run() {
     is.peak_rss_bytes = peak_rss_bytes();
     stats.iterations.push_back(is);
     if (it < o.iterations) tasks = Refiner::reload_links(elements);
+  }
+  if (!o.trace.empty()) {
+    const nlohmann::json header = {
+        {"format", "hrad-trace"},
+        {"version", 1},
+        {"record_bytes", sizeof(TraceRecord)},
+        {"records", trace.size()},
+        {"fields", {"id:u64", "first_child:u64", "start_ns:u64",
+                    "duration_ns:u32 (top bit: first task of a block)", "children:u16",
+                    "worker:u8", "iteration:u8"}},
+        {"scene", m.scene.name},
+        {"threads", o.threads},
+        {"scheduler", o.scheduler},
+        {"block_size", o.block_size},
+    };
+    write_trace(o.trace, header.dump(), trace);
   }
   if (m.progress) m.progress("done", 1.0);
 

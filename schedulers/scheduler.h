@@ -31,6 +31,7 @@ struct Task {
   float visibility = 1;
   float priority = 0;     ///< oracle error estimate (largest first for `priority`)
   bool evaluated = false; ///< true for links reloaded from the previous iteration
+  std::uint64_t id = 0;   ///< trace id (see core/trace.h); set by the refinement driver
 };
 
 struct SchedulerConfig {
