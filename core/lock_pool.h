@@ -7,7 +7,8 @@
 // sharing cache lines, so the counters can stay on in every run.
 #pragma once
 
-#include <chrono>
+#include "core/timed_lock.h"
+
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -23,16 +24,8 @@ class LockPool {
 
   /// Locks the mutex for `address` on behalf of `worker`; returns the held lock.
   std::unique_lock<std::mutex> lock(const void* address, int worker) {
-    std::mutex& m = locks_[index(address)].m;
-    std::unique_lock lock(m, std::try_to_lock);
-    if (!lock.owns_lock()) {
-      const auto t0 = std::chrono::steady_clock::now();
-      lock.lock();
-      Wait& w = waits_[static_cast<std::size_t>(worker)];
-      w.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      ++w.count;
-    }
-    return lock;
+    Wait& w = waits_[static_cast<std::size_t>(worker)];
+    return timed_lock(locks_[index(address)].m, w.seconds, &w.count);
   }
 
   [[nodiscard]] std::size_t size() const { return locks_.size(); }

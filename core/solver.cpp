@@ -27,6 +27,24 @@ namespace hrad {
 namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Leaf surface elements (those without children), depth first: the solution's
+/// finest mesh.
+std::vector<const Element*> leaf_surfaces(const Element& root) {
+  std::vector<const Element*> leaves;
+  std::vector<const Element*> stack{&root};
+  while (!stack.empty()) {
+    const Element* e = stack.back();
+    stack.pop_back();
+    const auto kids = e->child_span();
+    if (!kids.empty()) {
+      for (const Element& k : kids) stack.push_back(&k);
+    } else if (!e->is_cluster()) {
+      leaves.push_back(e);
+    }
+  }
+  return leaves;
+}
 }  // namespace
 
 struct Solver::Impl {
@@ -230,16 +248,7 @@ RenderMesh Solver::render_mesh() const {
     weight[it->second] += leaf.area;
     return it->second;
   };
-  std::vector<const Element*> stack{&impl_->hierarchy.root()};
-  while (!stack.empty()) {
-    const Element* e = stack.back();
-    stack.pop_back();
-    const auto kids = e->child_span();
-    if (!kids.empty()) {
-      for (const Element& k : kids) stack.push_back(&k);
-      continue;
-    }
-    if (e->is_cluster()) continue;
+  for (const Element* e : leaf_surfaces(impl_->hierarchy.root())) {
     const auto c = e->corners();
     std::vector<std::uint32_t> ids;
     for (const Vec3& p : c) ids.push_back(vertex(e->face, p, *e));
@@ -267,9 +276,8 @@ std::vector<std::pair<std::uint64_t, std::uint64_t>> Solver::link_ids() const {
 
 std::vector<Solver::Leaf> Solver::leaves() const {
   std::vector<Leaf> out;
-  for (const Element* e : impl_->hierarchy.elements())
-    if (!e->is_cluster() && e->child_span().empty())
-      out.push_back(Leaf{e->id, e->face, e->area, e->center, e->B});
+  for (const Element* e : leaf_surfaces(impl_->hierarchy.root()))
+    out.push_back(Leaf{e->id, e->face, e->area, e->center, e->B});
   std::sort(out.begin(), out.end(), [](const Leaf& a, const Leaf& b) { return a.id < b.id; });
   return out;
 }
@@ -279,18 +287,7 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
   // with the exact point-to-polygon form factor and visibility from rays whose
   // random numbers hash the probe index and the element id.
   const Impl& m = *impl_;
-  std::vector<const Element*> leaves;
-  std::vector<const Element*> stack{&m.hierarchy.root()};
-  while (!stack.empty()) {
-    const Element* e = stack.back();
-    stack.pop_back();
-    const auto kids = e->child_span();
-    if (!kids.empty()) {
-      for (const Element& k : kids) stack.push_back(&k);
-    } else if (!e->is_cluster()) {
-      leaves.push_back(e);
-    }
-  }
+  const std::vector<const Element*> leaves = leaf_surfaces(m.hierarchy.root());
   const int k = std::max(m.options.visibility_rays, 8);
   std::vector<Rgb> out(probes.size(), Rgb::Zero());
   const auto n = static_cast<std::ptrdiff_t>(probes.size());

@@ -22,10 +22,10 @@
 //
 // Lock waits are timed only when the lock is contended (try_lock first), as in
 // CentralPool.
+#include "core/timed_lock.h"
 #include "schedulers/scheduler.h"
 
 #include <algorithm>
-#include <chrono>
 #include <mutex>
 #include <vector>
 
@@ -98,16 +98,8 @@ class BlockedScheduler final : public IScheduler {
   [[nodiscard]] const char* name() const override { return "blocked"; }
 
  private:
-  std::unique_lock<std::mutex> acquire() {
-    std::unique_lock lock(mutex_, std::try_to_lock);
-    if (!lock.owns_lock()) {
-      const auto t0 = std::chrono::steady_clock::now();
-      lock.lock();
-      counters_.lock_wait_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
-    return lock;
-  }
+  // counters_ is only written under mutex_, so the wait can be added to it.
+  std::unique_lock<std::mutex> acquire() { return timed_lock(mutex_, counters_.lock_wait_s); }
 
   const std::size_t block_size_;
   mutable std::mutex mutex_;

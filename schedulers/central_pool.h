@@ -6,10 +6,10 @@
 // instrumentation costs nothing on the uncontended path.
 #pragma once
 
+#include "core/timed_lock.h"
 #include "schedulers/scheduler.h"
 
-#include <atomic>
-#include <chrono>
+#include <algorithm>
 #include <mutex>
 
 namespace hrad {
@@ -46,16 +46,8 @@ class CentralPool : public IScheduler {
   [[nodiscard]] const char* name() const override { return name_; }
 
  private:
-  std::unique_lock<std::mutex> acquire() {
-    std::unique_lock lock(mutex_, std::try_to_lock);
-    if (!lock.owns_lock()) {
-      const auto t0 = std::chrono::steady_clock::now();
-      lock.lock();
-      counters_.lock_wait_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
-    return lock;
-  }
+  // counters_ is only written under mutex_, so the wait can be added to it.
+  std::unique_lock<std::mutex> acquire() { return timed_lock(mutex_, counters_.lock_wait_s); }
 
   mutable std::mutex mutex_;
   Container tasks_;
