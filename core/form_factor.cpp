@@ -208,35 +208,30 @@ void gauss_legendre_01(std::span<double> nodes, std::span<double> weights) {
   // Roots z of the Legendre polynomial P_n on [-1, 1] by Newton's iteration from the
   // usual asymptotic guess, largest root first; weight 2 / ((1 - z^2) P_n'(z)^2).
   const double nd = static_cast<double>(n);
+  // P_n'(z) from the three-term recurrence; `pn` receives P_n(z).
+  auto legendre_derivative = [&](double z, double& pn) {
+    double p0 = 1.0;
+    double p1 = z;
+    for (std::size_t j = 2; j <= n; ++j) {
+      const double jd = static_cast<double>(j);
+      const double p2 = ((2 * jd - 1) * z * p1 - (jd - 1) * p0) / jd;
+      p0 = p1;
+      p1 = p2;
+    }
+    pn = p1;
+    return nd * (z * p1 - p0) / (z * z - 1);
+  };
   for (std::size_t i = 0; i < (n + 1) / 2; ++i) {
     double z = std::cos(kPi * (static_cast<double>(i) + 0.75) / (nd + 0.5));
-    double dp = 1.0;
+    double pn = 0;
     for (int iter = 0; iter < 100; ++iter) {
-      double p0 = 1.0;
-      double p1 = z;
-      for (std::size_t j = 2; j <= n; ++j) {
-        const double jd = static_cast<double>(j);
-        const double p2 = ((2 * jd - 1) * z * p1 - (jd - 1) * p0) / jd;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = nd * (z * p1 - p0) / (z * z - 1);
-      const double dz = p1 / dp;
+      const double dp = legendre_derivative(z, pn);  // sets pn first
+      const double dz = pn / dp;
       z -= dz;
       if (std::abs(dz) <= 1e-16) break;
     }
-    // Recompute P_n' at the converged root for the weight.
-    {
-      double p0 = 1.0;
-      double p1 = z;
-      for (std::size_t j = 2; j <= n; ++j) {
-        const double jd = static_cast<double>(j);
-        const double p2 = ((2 * jd - 1) * z * p1 - (jd - 1) * p0) / jd;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = nd * (z * p1 - p0) / (z * z - 1);
-    }
+    // P_n' at the converged root, for the weight.
+    const double dp = legendre_derivative(z, pn);
     const double wt = 1.0 / ((1 - z * z) * dp * dp);  // half of the [-1, 1] weight
     nodes[i] = 0.5 * (1 - z);
     nodes[n - 1 - i] = 0.5 * (1 + z);
