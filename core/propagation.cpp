@@ -12,6 +12,53 @@ ClusterReceiver parse_cluster_receiver(const std::string& name) {
   throw std::invalid_argument("cluster_receiver must be isotropic or cosine, not '" + name + "'");
 }
 
+namespace {
+
+// `elements` is in breadth-first order (parents before children, each level's
+// children appended after it), so every level is a contiguous range; returns the
+// range starts plus the end. Push and pull run level by level, in parallel within
+// a level: an element there only reads its parent (push) or children (pull).
+std::vector<std::size_t> level_starts(const std::vector<Element*>& elements) {
+  std::vector<std::size_t> starts{0};
+  std::size_t begin = 0, end = elements.empty() ? 0 : 1;
+  while (begin < end) {
+    starts.push_back(end);
+    std::size_t next = end;
+    for (std::size_t i = begin; i < end; ++i) next += elements[i]->child_span().size();
+    begin = end;
+    end = std::min(next, elements.size());
+  }
+  return starts;
+}
+
+void push_one(Element* e, bool cosine) {
+  e->next = e->gathered + (e->parent ? e->parent->next : Rgb::Zero());
+  if (!cosine || !e->parent || !e->parent->is_cluster()) return;
+  const std::array<Rgb, 6>& up = *e->parent->directional;
+  if (e->is_cluster()) {
+    for (std::size_t k = 0; k < 6; ++k) (*e->directional)[k] += up[k];
+  } else {
+    for (int a = 0; a < 3; ++a) {
+      const double na = e->normal[a];
+      e->next += std::max(0.0, na) * up[static_cast<std::size_t>(2 * a)] +
+                 std::max(0.0, -na) * up[static_cast<std::size_t>(2 * a + 1)];
+    }
+  }
+}
+
+void pull_one(Element& e) {
+  const auto kids = e.child_span();
+  if (kids.empty()) {
+    e.next = e.emission + e.rho * (static_cast<double>(e.gather_scale) * e.next);
+  } else {
+    Rgb sum = Rgb::Zero();
+    for (const Element& k : kids) sum += k.area * k.next;
+    e.next = e.area > 0 ? Rgb(sum / e.area) : Rgb::Zero();
+  }
+}
+
+}  // namespace
+
 void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
                      const std::function<Rgb(const Link&)>& value) {
   const bool cosine = mode == ClusterReceiver::Cosine;
@@ -44,19 +91,11 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
     e.gathered = g;
   }
   // Push (parents before children): `next` holds the total irradiance H.
-  for (Element* e : elements) {
-    e->next = e->gathered + (e->parent ? e->parent->next : Rgb::Zero());
-    if (!cosine || !e->parent || !e->parent->is_cluster()) continue;
-    const std::array<Rgb, 6>& up = *e->parent->directional;
-    if (e->is_cluster()) {
-      for (std::size_t k = 0; k < 6; ++k) (*e->directional)[k] += up[k];
-    } else {
-      for (int a = 0; a < 3; ++a) {
-        const double na = e->normal[a];
-        e->next += std::max(0.0, na) * up[static_cast<std::size_t>(2 * a)] +
-                   std::max(0.0, -na) * up[static_cast<std::size_t>(2 * a + 1)];
-      }
-    }
+  const std::vector<std::size_t> levels = level_starts(elements);
+  for (std::size_t l = 0; l + 1 < levels.size(); ++l) {
+    const auto b = static_cast<std::ptrdiff_t>(levels[l]), e = static_cast<std::ptrdiff_t>(levels[l + 1]);
+#pragma omp parallel for num_threads(threads) schedule(static) if (e - b > 4096)
+    for (std::ptrdiff_t i = b; i < e; ++i) push_one(elements[static_cast<std::size_t>(i)], cosine);
   }
 }
 
@@ -66,22 +105,20 @@ double propagation_sweep(const std::vector<Element*>& elements, int threads,
                   [](const Link& l) -> Rgb { return l.transport() * l.source->B; });
   // Pull (children before parents): `next` becomes the new radiosity. A parent's H
   // is no longer needed once its children have read it in the push.
-  for (auto it = elements.rbegin(); it != elements.rend(); ++it) {
-    Element& e = **it;
-    const auto kids = e.child_span();
-    if (kids.empty()) {
-      e.next = e.emission + e.rho * (static_cast<double>(e.gather_scale) * e.next);
-    } else {
-      Rgb sum = Rgb::Zero();
-      for (const Element& k : kids) sum += k.area * k.next;
-      e.next = e.area > 0 ? Rgb(sum / e.area) : Rgb::Zero();
-    }
+  const std::vector<std::size_t> levels = level_starts(elements);
+  for (std::size_t l = levels.size() - 1; l-- > 0;) {
+    const auto b = static_cast<std::ptrdiff_t>(levels[l]), e = static_cast<std::ptrdiff_t>(levels[l + 1]);
+#pragma omp parallel for num_threads(threads) schedule(static) if (e - b > 4096)
+    for (std::ptrdiff_t i = b; i < e; ++i) pull_one(*elements[static_cast<std::size_t>(i)]);
   }
   double change = 0, largest = 0;
-  for (Element* e : elements) {
-    change = std::max(change, (e->next - e->B).abs().maxCoeff());
-    largest = std::max(largest, e->next.abs().maxCoeff());
-    e->B = e->next;
+  const auto n = static_cast<std::ptrdiff_t>(elements.size());
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : change, largest)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Element& e = *elements[static_cast<std::size_t>(i)];
+    change = std::max(change, (e.next - e.B).abs().maxCoeff());
+    largest = std::max(largest, e.next.abs().maxCoeff());
+    e.B = e.next;
   }
   return largest > 0 ? change / largest : 0.0;
 }
