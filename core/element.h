@@ -55,6 +55,9 @@ struct Element {
   /// element that sees no geometry, estimated by rays (negative until estimated).
   float gather_scale = 1;
   float escape = -1;
+  /// NUMA node (logical) of the arena memory holding this element, as the arena
+  /// counts it (core/node_arena.h); set at allocation. Uses what was padding.
+  std::uint16_t home_node = 0;
   double area = 0;              ///< surface area (clusters: total of member polygons)
   Vec3 corner[4];               ///< surfaces with nverts <= 4
   const Vec3* ngon = nullptr;   ///< surfaces with nverts > 4 (top-level polygon only)

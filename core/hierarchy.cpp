@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <memory>
+#include <new>
 #include <numeric>
 
 namespace hrad {
@@ -14,22 +16,32 @@ std::uint64_t child_id(std::uint64_t parent, std::uint32_t index) {
   return z ^ (z >> 31);
 }
 
-// Per-worker arena: blocks of elements, never moved, freed with the hierarchy.
+// Per-worker arena: blocks of elements in the worker's NodeArena, never moved,
+// destroyed with the hierarchy.
 struct Hierarchy::Arena {
-  std::vector<std::unique_ptr<Element[]>> blocks;
+  Arena(int worker, const ArenaPlacement& placement) : memory(worker, placement) {}
+  NodeArena memory;
+  std::vector<std::span<Element>> blocks;
   std::size_t elements = 0;
   char pad[64];
 };
 
 Element* Hierarchy::allocate(std::size_t count, int worker) {
   Arena& a = *arenas_[static_cast<std::size_t>(worker)];
-  a.blocks.push_back(std::make_unique<Element[]>(count));
+  auto* kids = static_cast<Element*>(a.memory.allocate(count * sizeof(Element), alignof(Element)));
+  for (std::size_t i = 0; i < count; ++i) {
+    new (kids + i) Element();
+    kids[i].home_node = static_cast<std::uint16_t>(a.memory.node_of(kids + i));
+  }
+  a.blocks.emplace_back(kids, count);
   a.elements += count;
-  return a.blocks.back().get();
+  return kids;
 }
 
-Hierarchy::Hierarchy(const Scene& scene, int workers) : scene_(scene) {
-  for (int w = 0; w < std::max(workers, 1); ++w) arenas_.push_back(std::make_unique<Arena>());
+Hierarchy::Hierarchy(const Scene& scene, int workers, const ArenaPlacement& placement)
+    : scene_(scene) {
+  for (int w = 0; w < std::max(workers, 1); ++w)
+    arenas_.push_back(std::make_unique<Arena>(w, placement));
   const auto nf = static_cast<std::uint32_t>(scene.faces.size());
   order_.resize(nf);
   std::iota(order_.begin(), order_.end(), 0u);
@@ -50,7 +62,10 @@ Hierarchy::Hierarchy(const Scene& scene, int workers) : scene_(scene) {
     prefix_area_[i + 1] = prefix_area_[i] + scene.face_area(order_[i]);
 }
 
-Hierarchy::~Hierarchy() = default;
+Hierarchy::~Hierarchy() {
+  for (const auto& a : arenas_)
+    for (std::span<Element> b : a->blocks) std::destroy(b.begin(), b.end());
+}
 
 void Hierarchy::init_surface(Element& e, std::uint32_t face, Element* parent, std::uint64_t id) {
   const Face& f = scene_.faces[face];
@@ -235,9 +250,12 @@ Vec3 Hierarchy::sample_face(std::uint32_t face, double u1, double u2, double u3)
 }
 
 Vec3 Hierarchy::sample_point(const Element& e, double u1, double u2, double u3,
-                             const Vec3* toward) const {
+                             const Vec3* toward, std::uint32_t* face) const {
   if (e.is_cluster()) {
-    if (e.face == e.face_end) return e.center;
+    if (e.face == e.face_end) {
+      if (face) *face = ~std::uint32_t{0};
+      return e.center;
+    }
     const double lo = prefix_area_[e.face], hi = prefix_area_[e.face_end];
     std::uint32_t i = e.face;
     double u3b = 0.5;
@@ -253,11 +271,16 @@ Vec3 Hierarchy::sample_point(const Element& e, double u1, double u2, double u3,
       u3b = share > 0 ? std::clamp((target - prefix_area_[i]) / share, 0.0, 1.0) : 0.5;
       if (!toward) break;
       const Vec3 p = sample_face(order_[i], u1, u2, u3b);
-      if (face_normal_[order_[i]].dot(*toward - p) > 0) return p;
+      if (face_normal_[order_[i]].dot(*toward - p) > 0) {
+        if (face) *face = order_[i];
+        return p;
+      }
       u = std::fmod(u + 0.6180339887498949, 1.0);  // next draw: golden-ratio step
     }
+    if (face) *face = order_[i];
     return sample_face(order_[i], u1, u2, u3b);
   }
+  if (face) *face = e.face;
   const auto c = e.corners();
   if (c.size() == 4) {
     return (1 - u1) * (1 - u2) * c[0] + u1 * (1 - u2) * c[1] + u1 * u2 * c[2] + (1 - u1) * u2 * c[3];
@@ -282,6 +305,20 @@ std::size_t Hierarchy::element_count() const {
   std::size_t n = 0;
   for (const auto& a : arenas_) n += a->elements;
   return n;
+}
+
+std::vector<std::uint64_t> Hierarchy::element_bytes_per_node() const {
+  std::vector<std::uint64_t> total;
+  for (const auto& a : arenas_) {
+    const std::vector<std::uint64_t> b = a->memory.bytes_per_node();
+    total.resize(std::max(total.size(), b.size()), 0);
+    for (std::size_t n = 0; n < b.size(); ++n) total[n] += b[n];
+  }
+  return total;
+}
+
+const NodeArena& Hierarchy::arena(int worker) const {
+  return arenas_.at(static_cast<std::size_t>(worker))->memory;
 }
 
 std::size_t Hierarchy::element_bytes() const {

@@ -9,11 +9,13 @@
 //
 // Threading: subdivide() may be called concurrently; it builds each element's
 // children exactly once (double-checked under a hashed lock) and allocates them
-// from the calling worker's arena.
+// from the calling worker's arena (core/node_arena.h: page-aligned chunks that
+// record their owner and NUMA node; each element records its node in home_node).
 #pragma once
 
 #include "core/element.h"
 #include "core/lock_pool.h"
+#include "core/node_arena.h"
 #include "core/scene.h"
 
 #include <memory>
@@ -30,7 +32,8 @@ class Hierarchy {
   /// the area threshold says (4^-24 of the polygon's area).
   static constexpr int kMaxSurfaceDepth = 24;
 
-  Hierarchy(const Scene& scene, int workers);
+  /// The cluster tree is built here, into worker 0's arena.
+  Hierarchy(const Scene& scene, int workers, const ArenaPlacement& placement = {});
   ~Hierarchy();
   Hierarchy(const Hierarchy&) = delete;
   Hierarchy& operator=(const Hierarchy&) = delete;
@@ -54,14 +57,21 @@ class Hierarchy {
   /// cluster's own objects: the cluster model's projected area A/4 already
   /// accounts for members facing away, and counting their self-occlusion again
   /// would lose that transport twice.
+  /// When `face` is given, it receives the input polygon the point lies on (~0u for
+  /// the centre of an empty cluster), for rays that must ignore that polygon.
   [[nodiscard]] Vec3 sample_point(const Element& e, double u1, double u2, double u3,
-                                  const Vec3* toward = nullptr) const;
+                                  const Vec3* toward = nullptr,
+                                  std::uint32_t* face = nullptr) const;
   static constexpr int kFacingTries = 8;
 
   /// Every element, parents before children (a snapshot; call when no refiner runs).
   [[nodiscard]] std::vector<Element*> elements();
   [[nodiscard]] std::size_t element_count() const;
   [[nodiscard]] std::size_t element_bytes() const;
+  /// Element bytes by NUMA node, summed over the arenas (size = placement nodes).
+  [[nodiscard]] std::vector<std::uint64_t> element_bytes_per_node() const;
+  /// A worker's arena (for tests and placement reports).
+  [[nodiscard]] const NodeArena& arena(int worker) const;
 
  private:
   struct Arena;

@@ -14,6 +14,7 @@
 // | visibility_rays     | int    | 4            | rays per link for the visibility estimate (0: no rays)     |
 // | pin                 | string | "none"       | thread pinning (none, compact, scatter, node-round-robin)  |
 // | placement           | string | "first-touch"| memory placement (first-touch, interleave, node0)          |
+// | pool_order          | string | "submitted"  | central pools sort each batch: submitted, address, subtree |
 // | seed                | uint64 | 1            | mixed into every per-link random number                    |
 // | gather_tolerance    | double | 1e-6         | propagation stops when the estimated remaining change is    |
 // |                     |        |              | below this fraction of the largest radiosity               |
@@ -26,6 +27,10 @@
 // | locks_pool          | int    | 0            | hashed locks per class (0: twice the refiner count)        |
 // | trace               | string | ""           | file to record a task trace to ("" = none)                 |
 // | image_width         | int    | 640          | render.png width in pixels (height from the aspect 4:3)    |
+// | effects             | string | "auto"       | auto: skip what the scene does not need (core/effects.h);  |
+// |                     |        |              | all: compute every effect regardless                       |
+// | shaft_culling       | string | "off"        | on: V = 1 without rays for pairs whose shaft holds no      |
+// |                     |        |              | polygon (core/shaft.h); off: always cast the rays          |
 #pragma once
 
 #include <cstdint>
@@ -44,6 +49,7 @@ struct SolverOptions {
   int visibility_rays = 4;
   std::string pin = "none";
   std::string placement = "first-touch";
+  std::string pool_order = "submitted";
   std::uint64_t seed = 1;
   double gather_tolerance = 1e-6;
   int max_gather_sweeps = 100000;
@@ -54,6 +60,8 @@ struct SolverOptions {
   int locks_pool = 0;
   std::string trace;
   int image_width = 640;
+  std::string effects = "auto";
+  std::string shaft_culling = "off";
 };
 
 }  // namespace hrad

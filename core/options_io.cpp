@@ -37,6 +37,8 @@ const std::vector<Row>& rows() {
        "rays per link for the visibility estimate (0: no rays)"},
       {"pin", &S::pin, "thread pinning: none, compact, scatter, node-round-robin"},
       {"placement", &S::placement, "memory placement: first-touch, interleave, node0"},
+      {"pool_order", &S::pool_order,
+       "central pools sort each submitted batch: submitted (no), address, subtree"},
       {"seed", &S::seed, "mixed into every per-link random number"},
       {"gather_tolerance", &S::gather_tolerance,
        "propagation stops when the estimated remaining change is below this fraction of "
@@ -53,6 +55,11 @@ const std::vector<Row>& rows() {
       {"locks_pool", &S::locks_pool, "hashed locks per lock class (0: twice the refiner count)"},
       {"trace", &S::trace, "file to record a task trace to (empty: none)"},
       {"image_width", &S::image_width, "render.png width in pixels (height: 3/4 of it)"},
+      {"effects", &S::effects,
+       "auto: skip what the scene does not need (reported in stats.json); all: compute "
+       "every effect"},
+      {"shaft_culling", &S::shaft_culling,
+       "on: no rays for pairs whose shaft holds no polygon (V = 1); off: always cast them"},
   };
   return table;
 }
@@ -262,6 +269,8 @@ void validate_options(const SolverOptions& o) {
         "pin", o.pin, "one of none, compact, scatter, node-round-robin");
   check(o.placement == "first-touch" || o.placement == "interleave" || o.placement == "node0",
         "placement", o.placement, "one of first-touch, interleave, node0");
+  check(o.pool_order == "submitted" || o.pool_order == "address" || o.pool_order == "subtree",
+        "pool_order", o.pool_order, "one of submitted, address, subtree");
   check(std::isfinite(o.gather_tolerance) && o.gather_tolerance > 0, "gather_tolerance",
         str(o.gather_tolerance), "a finite number > 0");
   check(o.max_gather_sweeps >= 1, "max_gather_sweeps", str(o.max_gather_sweeps), ">= 1");
@@ -275,6 +284,9 @@ void validate_options(const SolverOptions& o) {
   check(o.locks_pool >= 0, "locks_pool", str(o.locks_pool), ">= 0 (0: automatic)");
   check(o.image_width >= 8 && o.image_width <= 16384, "image_width", str(o.image_width),
         "between 8 and 16384");
+  check(o.effects == "auto" || o.effects == "all", "effects", o.effects, "auto or all");
+  check(o.shaft_culling == "on" || o.shaft_culling == "off", "shaft_culling", o.shaft_culling,
+        "on or off");
 }
 
 }  // namespace hrad

@@ -57,6 +57,16 @@ void pull_one(Element& e) {
   }
 }
 
+// Push (parents before children): `next` holds the total irradiance H.
+void push_levels(const std::vector<Element*>& elements, bool cosine, int threads) {
+  const std::vector<std::size_t> levels = level_starts(elements);
+  for (std::size_t l = 0; l + 1 < levels.size(); ++l) {
+    const auto b = static_cast<std::ptrdiff_t>(levels[l]), e = static_cast<std::ptrdiff_t>(levels[l + 1]);
+#pragma omp parallel for num_threads(threads) schedule(static) if (e - b > 4096)
+    for (std::ptrdiff_t i = b; i < e; ++i) push_one(elements[static_cast<std::size_t>(i)], cosine);
+  }
+}
+
 }  // namespace
 
 void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
@@ -90,19 +100,26 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
     }
     e.gathered = g;
   }
-  // Push (parents before children): `next` holds the total irradiance H.
-  const std::vector<std::size_t> levels = level_starts(elements);
-  for (std::size_t l = 0; l + 1 < levels.size(); ++l) {
-    const auto b = static_cast<std::ptrdiff_t>(levels[l]), e = static_cast<std::ptrdiff_t>(levels[l + 1]);
-#pragma omp parallel for num_threads(threads) schedule(static) if (e - b > 4096)
-    for (std::ptrdiff_t i = b; i < e; ++i) push_one(elements[static_cast<std::size_t>(i)], cosine);
-  }
+  push_levels(elements, cosine, threads);
 }
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads,
-                         ClusterReceiver mode) {
-  gather_and_push(elements, mode, threads,
-                  [](const Link& l) -> Rgb { return l.transport() * l.source->B; });
+                         ClusterReceiver mode, bool grey) {
+  if (grey && mode == ClusterReceiver::Isotropic) {
+    // One channel: the same products and sums as channel 0 of the Rgb gather.
+    const auto n = static_cast<std::ptrdiff_t>(elements.size());
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      Element& e = *elements[static_cast<std::size_t>(i)];
+      double g = 0;
+      for (const Link& l : e.links) g += l.transport() * l.source->B[0];
+      e.gathered = Rgb::Constant(g);
+    }
+    push_levels(elements, false, threads);
+  } else {
+    gather_and_push(elements, mode, threads,
+                    [](const Link& l) -> Rgb { return l.transport() * l.source->B; });
+  }
   // Pull (children before parents): `next` becomes the new radiosity. A parent's H
   // is no longer needed once its children have read it in the push.
   const std::vector<std::size_t> levels = level_starts(elements);
@@ -124,12 +141,12 @@ double propagation_sweep(const std::vector<Element*>& elements, int threads,
 }
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
-                            int max_sweeps, int threads, ClusterReceiver mode) {
+                            int max_sweeps, int threads, ClusterReceiver mode, bool grey) {
   PropagationResult r;
   double previous = 0;
   int growing = 0;
   while (r.sweeps < max_sweeps) {
-    const double c = propagation_sweep(elements, threads, mode);
+    const double c = propagation_sweep(elements, threads, mode, grey);
     ++r.sweeps;
     r.last_change = c;
     if (c < 1e-13) {  // at round-off: nothing left to converge

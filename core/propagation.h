@@ -44,12 +44,16 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
                      const std::function<Rgb(const Link&)>& value);
 
 /// `elements` must list parents before children (Hierarchy::elements()).
+/// `grey`: every radiosity, emission and reflectance has equal channels (a grey
+/// scene, core/effects.h), so the gather sums channel 0 only and copies it; the
+/// result is the same to the last bit. Cluster receivers in Cosine mode still
+/// gather three channels.
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
                             int max_sweeps, int threads,
-                            ClusterReceiver mode = ClusterReceiver::Isotropic);
+                            ClusterReceiver mode = ClusterReceiver::Isotropic, bool grey = false);
 
 /// One Jacobi sweep (gather + push-pull), B <- B'; returns the relative change.
 double propagation_sweep(const std::vector<Element*>& elements, int threads,
-                         ClusterReceiver mode = ClusterReceiver::Isotropic);
+                         ClusterReceiver mode = ClusterReceiver::Isotropic, bool grey = false);
 
 }  // namespace hrad

@@ -7,6 +7,9 @@
 // The scene is built with RTC_SCENE_FLAG_ROBUST (watertight traversal: no rays leak
 // through edges shared by neighbouring polygons) and high build quality, since hrad
 // casts many rays against a static scene.
+// Ignored polygons (occluded()/intersect() arguments) are rejected by a per-query
+// filter: RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION plus an IgnoreContext that begins
+// with the RTCIntersectContext Embree sees. Queries that ignore nothing set no filter.
 #include "core/ray_scene.h"
 
 #include "core/scene.h"
@@ -23,6 +26,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace hrad {
@@ -50,6 +54,30 @@ std::size_t thread_stripe() {
   thread_local const std::size_t stripe =
       next.fetch_add(1, std::memory_order_relaxed) % kCounterStripes;
   return stripe;
+}
+
+/// An intersection context carrying the polygons to ignore and the tables that map
+/// Embree's (geomID, primID) back to input polygons. Embree hands the filter the
+/// pointer to `base`, the first member, so the filter can cast it back.
+struct IgnoreContext {
+  RTCIntersectContext base;
+  const std::uint32_t* tri_poly = nullptr;
+  const std::uint32_t* quad_poly = nullptr;
+  unsigned quad_geom = RTC_INVALID_GEOMETRY_ID;
+  std::uint32_t ignore[2] = {RayScene::kNoPolygon, RayScene::kNoPolygon};
+};
+static_assert(std::is_standard_layout_v<IgnoreContext>);
+
+/// Context filter: rejects hits on the ignored polygons (valid[i] = 0).
+void ignore_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* c = reinterpret_cast<const IgnoreContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const unsigned geom = RTCHitN_geomID(args->hit, args->N, i);
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const std::uint32_t poly = geom == c->quad_geom ? c->quad_poly[prim] : c->tri_poly[prim];
+    if (poly == c->ignore[0] || poly == c->ignore[1]) args->valid[i] = 0;
+  }
 }
 
 float to_float_distance(double t) {
@@ -106,6 +134,17 @@ struct RayScene::Impl {
     std::lock_guard lock(error_mutex);
     throw std::runtime_error(fmt::format("Embree error while {}: {}", during,
                                          last_error.empty() ? error_name(e) : last_error));
+  }
+
+  /// A context that ignores polygons a and b (no filter when both are kNoPolygon).
+  void init_context(IgnoreContext& c, std::uint32_t a, std::uint32_t b) const {
+    rtcInitIntersectContext(&c.base);
+    c.tri_poly = tri_poly.data();
+    c.quad_poly = quad_poly.data();
+    c.quad_geom = quad_geom;
+    c.ignore[0] = a;
+    c.ignore[1] = b;
+    if (a != kNoPolygon || b != kNoPolygon) c.base.filter = &ignore_filter;
   }
 
   void count_ray() const {
@@ -186,8 +225,10 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
     throw std::runtime_error(fmt::format("Embree: cannot create a device ({})",
                                          error_name(rtcGetDeviceError(nullptr))));
   rtcSetDeviceErrorFunction(m.device, &Impl::on_error, &m);
+  if (!rtcGetDeviceProperty(m.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
+    throw std::runtime_error("Embree was built without filter functions (needed to ignore polygons)");
   m.scene = rtcNewScene(m.device);
-  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
   m.check("creating the scene");
 
@@ -239,7 +280,8 @@ std::uint64_t RayScene::rays_cast() const {
   return n;
 }
 
-bool RayScene::occluded(const Vec3& from, const Vec3& to) const {
+bool RayScene::occluded(const Vec3& from, const Vec3& to, std::uint32_t ignore_a,
+                        std::uint32_t ignore_b) const {
   const Impl& m = *impl_;
   const Vec3 o = (from - m.centre) * m.inv_scale;
   const Vec3 d = (to - from) * m.inv_scale;
@@ -250,8 +292,8 @@ bool RayScene::occluded(const Vec3& from, const Vec3& to) const {
   if (!(len > 2 * kEndpointEpsilon) || m.polygons == 0) return false;
   const double margin = kEndpointEpsilon / len;
 
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
+  IgnoreContext ctx;
+  m.init_context(ctx, ignore_a, ignore_b);
   RTCRay ray;
   ray.org_x = static_cast<float>(o.x());
   ray.org_y = static_cast<float>(o.y());
@@ -265,13 +307,13 @@ bool RayScene::occluded(const Vec3& from, const Vec3& to) const {
   ray.mask = ~0u;
   ray.id = 0;
   ray.flags = 0;
-  rtcOccluded1(m.scene, &ctx, &ray);
+  rtcOccluded1(m.scene, &ctx.base, &ray);
   m.count_ray();
   return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
-std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir,
-                                          double tmax) const {
+std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, double tmax,
+                                          std::uint32_t ignore) const {
   const Impl& m = *impl_;
   const Vec3 o = (origin - m.centre) * m.inv_scale;
   const Vec3 d = dir * m.inv_scale;
@@ -281,8 +323,8 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir,
   const double tnear = kEndpointEpsilon / len;
   if (m.polygons == 0 || !(tmax >= tnear)) return std::nullopt;
 
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
+  IgnoreContext ctx;
+  m.init_context(ctx, ignore, kNoPolygon);
   RTCRayHit rh;
   rh.ray.org_x = static_cast<float>(o.x());
   rh.ray.org_y = static_cast<float>(o.y());
@@ -298,7 +340,7 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir,
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(m.scene, &ctx, &rh);
+  rtcIntersect1(m.scene, &ctx.base, &rh);
   m.count_ray();
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
 

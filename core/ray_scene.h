@@ -70,17 +70,30 @@ class RayScene {
   RayScene& operator=(const RayScene&) = delete;
   ~RayScene();
 
+  /// "No polygon": a face id that ignores nothing.
+  static constexpr std::uint32_t kNoPolygon = ~std::uint32_t{0};
+
   /// True when some polygon crosses the open segment from `from` to `to`, ignoring
   /// hits within kEndpointEpsilon * scale() of either end point. Segments shorter
   /// than twice that are never occluded. Thread-safe.
-  [[nodiscard]] bool occluded(const Vec3& from, const Vec3& to) const;
+  ///
+  /// `ignore_a`, `ignore_b`: polygons whose hits are ignored (kNoPolygon: none). Pass
+  /// the polygons the end points lie on: a segment from a point on a planar polygon
+  /// meets that polygon's plane only at its start, so any hit on it is false, but in
+  /// single precision a segment that skims along the polygon from an end point within
+  /// ~1e-5 of the diagonal of it is reported blocked by it (grazing self-hits).
+  [[nodiscard]] bool occluded(const Vec3& from, const Vec3& to,
+                              std::uint32_t ignore_a = kNoPolygon,
+                              std::uint32_t ignore_b = kNoPolygon) const;
 
   /// First hit along origin + t * dir with kEndpointEpsilon * scale() <= t |dir| and
-  /// t <= tmax. `dir` need not be unit length, but must be non-zero. Polygons are
+  /// t <= tmax, skipping polygon `ignore` (the one the origin lies on, if known; see
+  /// occluded()). `dir` need not be unit length, but must be non-zero. Polygons are
   /// two-sided. Thread-safe.
   [[nodiscard]] std::optional<RayHit> intersect(
       const Vec3& origin, const Vec3& dir,
-      double tmax = std::numeric_limits<double>::infinity()) const;
+      double tmax = std::numeric_limits<double>::infinity(),
+      std::uint32_t ignore = kNoPolygon) const;
 
   /// Bounding-box diagonal D of all vertices referenced by polygons (0 when empty).
   [[nodiscard]] double scale() const;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <span>
 #include <chrono>
 #include <thread>
 
@@ -15,6 +16,8 @@ namespace hrad {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+/// Initial tasks the solver thread submits per scheduler call.
+constexpr std::size_t kLoadChunk = 4096;
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -22,6 +25,7 @@ double seconds_since(Clock::time_point t0) {
 
 struct alignas(64) Refiner::Worker {
   int id = 0;
+  int node = 0;  ///< NUMA node of the pin plan (set_binding); 0 when unpinned
   RefineCounters c;
   /// Links accepted in the current block, stored after it (see store_links).
   std::vector<std::pair<Element*, Link>> accepted;
@@ -78,6 +82,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   Element& r = *task.receiver;
   Element& s = *task.source;
   ++w.c.tasks;
+  ++(r.home_node == w.node ? w.c.tasks_local : w.c.tasks_remote);  // NUMA report
   const int k = transport_.rays_per_link();
 
   bool must_refine = false;
@@ -122,7 +127,9 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
     }
     if (accept) {
       est.form_factor = transport_.form_factor(r, s);
-      est.visibility = est.form_factor > 0 ? transport_.visibility(r, s, w.c.rays_cast) : 0.0;
+      est.visibility = est.form_factor > 0
+                           ? transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped)
+                           : 0.0;
     }
     error = task.priority;
   } else {
@@ -133,7 +140,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
         w.c.rays_skipped += static_cast<std::uint64_t>(k);
         return;
       }
-      est.visibility = transport_.visibility(r, s, w.c.rays_cast);
+      est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped);
     }
     if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
     const Verdict v = oracle_.judge(est, OracleThresholds{limits_.eps_power});
@@ -172,16 +179,40 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
   for (std::size_t i = 0; i < initial.size(); ++i)
     initial[i].id = (static_cast<std::uint64_t>(trace_iteration) << 40) | i;
   const auto stage_start = Clock::now();
+  // `pending` starts at the whole initial load, so it cannot reach zero before the
+  // solver thread has submitted every initial task.
   std::atomic<std::int64_t> pending{static_cast<std::int64_t>(initial.size())};
+  std::atomic<bool> done{false};
   std::atomic<int> busy{0};
   std::atomic<int> peak{0};
-  scheduler.submit(0, initial);
   std::vector<Worker> workers(static_cast<std::size_t>(threads));
+
+  // The solver thread (paper §3.2): loads the initial tasks in chunks while the
+  // refiners already work on the first ones, then sleeps until the last in-flight
+  // task retires (the refiner that brings `pending` to zero wakes it) and tells the
+  // refiners to stop.
+  std::thread solver([&] {
+    if (plan_) (void)bind_thread(topology_, plan_->solver, nullptr);
+    const auto t0 = Clock::now();
+    const std::span<const Task> all(initial);
+    for (std::size_t i = 0; i < all.size(); i += kLoadChunk)
+      scheduler.submit(0, all.subspan(i, std::min(kLoadChunk, all.size() - i)));
+    load_s_ = seconds_since(t0);
+    for (std::int64_t v = pending.load(std::memory_order_acquire); v != 0;
+         v = pending.load(std::memory_order_acquire))
+      pending.wait(v, std::memory_order_acquire);
+    done.store(true, std::memory_order_release);
+  });
 
 #pragma omp parallel num_threads(threads)
   {
     Worker& w = workers[static_cast<std::size_t>(omp_get_thread_num())];
     w.id = omp_get_thread_num();
+    if (plan_ && static_cast<std::size_t>(w.id) < plan_->refiners.size()) {
+      w.node = plan_->refiners[static_cast<std::size_t>(w.id)].node;
+      w.c.bound = bind_thread(topology_, plan_->refiners[static_cast<std::size_t>(w.id)],
+                              &w.c.bind_warning);
+    }
     w.next_id = (static_cast<std::uint64_t>(w.id + 1) << 48) |
                 (static_cast<std::uint64_t>(trace_iteration) << 40);
     std::vector<Task> block(static_cast<std::size_t>(block_size));
@@ -192,7 +223,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     for (;;) {
       const std::size_t n = scheduler.take(w.id, block);
       if (n == 0) {
-        if (pending.load(std::memory_order_acquire) == 0) break;
+        if (done.load(std::memory_order_acquire)) break;
         if (!idle) {
           idle = true;
           idle_since = Clock::now();
@@ -242,10 +273,13 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
       }
       w.c.busy_s += seconds_since(t0);
       busy.fetch_sub(1, std::memory_order_relaxed);
-      pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel);
+      if (pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel) ==
+          static_cast<std::int64_t>(n))
+        pending.notify_one();  // the last task retired: wake the solver thread
     }
     if (idle) w.c.idle_s += seconds_since(idle_since);
   }
+  solver.join();
 
   RefineCounters total;
   for (const Worker& w : workers) {
@@ -263,6 +297,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     total.trace.insert(total.trace.end(), w.trace.begin(), w.trace.end());
   }
   total.peak_parallelism = peak.load();
+  total.load_s = load_s_;
   return total;
 }
 

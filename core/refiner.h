@@ -5,18 +5,24 @@
 // a refiner creates are buffered and submitted after its block (the paper's
 // blocking, §3.5; with block size 1 this is plain task-at-a-time scheduling).
 //
-// Termination: `pending` counts tasks submitted and not yet finished. A refiner
-// submits a block's children before retiring the block, so pending reaches zero
-// only when no task is queued and none is in flight.
+// A solver thread runs beside the refiners (paper §3.2): it loads the iteration's
+// initial tasks (every existing link) into the scheduler while refiners start on
+// them, and detects termination. `pending` counts tasks submitted and not yet
+// finished; it starts at the whole initial load, and a refiner submits a block's
+// children before retiring the block, so pending reaches zero only when no task is
+// queued and none is in flight. The refiner that brings it to zero wakes the solver
+// thread, which tells the refiners to stop.
 #pragma once
 
 #include "core/element.h"
 #include "core/lock_pool.h"
+#include "core/pin_plan.h"
 #include "core/trace.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace hrad {
@@ -40,8 +46,14 @@ struct RefineCounters {
   double busy_s = 0;                ///< summed over refiners
   double idle_s = 0;                ///< summed over refiners: waiting for tasks
   int peak_parallelism = 0;         ///< most refiners busy at once
+  double load_s = 0;                ///< solver thread: time to submit the initial tasks
   std::uint64_t takes = 0;          ///< take() calls that returned tasks
   std::uint64_t submits = 0;        ///< submit() calls
+  /// Tasks whose receiver's memory (Element::home_node) is on this refiner's node,
+  /// and on another node (see set_binding).
+  std::uint64_t tasks_local = 0, tasks_remote = 0;
+  const char* bound = "none";       ///< per refiner: what bind_thread said (core/pin_plan.h)
+  std::string bind_warning;         ///< per refiner: why binding failed, if it did
   /// Per refiner (the fields above, one entry per worker; peak_parallelism unused).
   std::vector<RefineCounters> per_worker;
   /// One record per task when tracing was asked for (unordered).
@@ -52,6 +64,15 @@ class Refiner {
  public:
   Refiner(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
           RefineLimits limits, LockPool& element_locks, LockPool& link_locks);
+
+  /// Binds refiner i (and the solver thread) as `plan` says at the start of every
+  /// run(), through `topology`, and counts tasks as local when the receiver's
+  /// home_node is the refiner's plan node. Both must outlive the Refiner; without a
+  /// call, refiners are unbound and on node 0.
+  void set_binding(const Topology* topology, const PinPlan* plan) {
+    topology_ = topology;
+    plan_ = plan;
+  }
 
   /// Runs one refinement stage from `initial` tasks to completion.
   /// With `trace_iteration` > 0, records every task (core/trace.h) under that
@@ -75,6 +96,9 @@ class Refiner {
   RefineLimits limits_;
   LockPool& element_locks_;
   LockPool& link_locks_;
+  double load_s_ = 0;  ///< written by the solver thread, read after it joined
+  const Topology* topology_ = nullptr;
+  const PinPlan* plan_ = nullptr;
 };
 
 }  // namespace hrad

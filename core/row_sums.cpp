@@ -40,7 +40,9 @@ double estimate_escape(const Element& e, const Hierarchy& h, const RayScene& ray
     const double r1 = hashed_uniform(key, i + 3), r2 = hashed_uniform(key, i + 4);
     const double r = std::sqrt(r1), phi = 2 * std::numbers::pi * r2;
     const Vec3 dir = r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(1 - r1) * e.normal;
-    if (!rays.intersect(p, dir)) ++escaped;
+    // The ray leaves e's own polygon, which it cannot hit again (a grazing ray could
+    // be reported hitting it in single precision).
+    if (!rays.intersect(p, dir, std::numeric_limits<double>::infinity(), e.face)) ++escaped;
   }
   return static_cast<double>(escaped) / n;
 }

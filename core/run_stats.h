@@ -3,6 +3,8 @@
 // bytes.
 #pragma once
 
+#include "core/effects.h"
+
 #include <cstdint>
 #include <map>
 #include <string>
@@ -19,6 +21,12 @@ struct RefinerStats {
   double idle_s = 0;             ///< time spent waiting for tasks
   double lock_wait_s = 0;        ///< time waiting on the element and link lock pools
   std::uint64_t rays_cast = 0;
+  // NUMA placement (core/pin_plan.h, core/node_arena.h):
+  int node = 0;                  ///< NUMA node of the refiner's pin plan (0 when unpinned)
+  std::string pus;               ///< PUs it is bound to, "0-3" ("" when unpinned)
+  std::string bound = "none";    ///< "none", "applied", "planned" (synthetic topology), "failed"
+  std::uint64_t tasks_local = 0;   ///< tasks whose receiver's memory is on `node`
+  std::uint64_t tasks_remote = 0;  ///< tasks whose receiver's memory is on another node
 };
 
 struct IterationStats {
@@ -36,8 +44,13 @@ struct IterationStats {
   std::map<std::string, double> lock_wait_s;  ///< by lock class: "scheduler", "element", "link"
   double idle_s = 0;                ///< refiner time spent waiting for tasks
   int peak_parallelism = 0;         ///< most refiners busy at the same moment
+  double load_s = 0;                ///< solver thread: time to load the initial tasks
   std::uint64_t steals = 0;         ///< tasks taken from another refiner's queue
   std::vector<RefinerStats> refiners;  ///< per refiner, by OpenMP thread number
+  /// Element bytes by NUMA node as the arenas count them (core/node_arena.h).
+  std::vector<std::uint64_t> bytes_per_node;
+  /// Tasks whose receiver was on the refiner's node / all tasks (NaN: no tasks).
+  double local_access_ratio = 0;
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;   ///< visibility queries answered without rays
   int gather_sweeps = 0;
@@ -56,12 +69,14 @@ struct RunTotals {
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;
   std::uint64_t peak_rss_bytes = 0;
+  int iterations_run = 0;  ///< refinement iterations run (fewer than asked when stopped early)
 };
 
 struct RunStats {
   std::vector<IterationStats> iterations;
   RunTotals totals;
   std::vector<std::string> warnings;
+  Effects effects;  ///< what the scene needed and what was skipped (core/effects.h)
 };
 
 /// Peak resident set size of this process so far (from getrusage), in bytes.

@@ -1,7 +1,10 @@
 #include "core/solver.h"
 
+#include "core/effects.h"
 #include "core/form_factor.h"
 #include "core/hierarchy.h"
+#include "core/numa_report.h"
+#include "schedulers/pool_order.h"
 #include "core/lock_pool.h"
 #include "core/options_io.h"
 #include "core/propagation.h"
@@ -51,6 +54,8 @@ struct Solver::Impl {
   const Scene& scene;
   SolverOptions options;
   ProgressFn progress;
+  std::unique_ptr<Topology> topology;  ///< binds threads and arena memory (core/topology.h)
+  PinPlan plan;                        ///< where each refiner runs (core/pin_plan.h)
   RayScene rays;
   Hierarchy hierarchy;
   Transport transport;
@@ -59,13 +64,18 @@ struct Solver::Impl {
   ClusterReceiver receiver_mode;
   double emitted_power = 0;  ///< sum over faces of area x largest emission channel
   double total_area = 0;
+  Effects effects;           ///< what the scene needs (core/effects.h)
 
   Impl(const Scene& s, const SolverOptions& o, ProgressFn p)
       : scene(s),
         options(o),
         progress(std::move(p)),
+        topology(std::make_unique<Topology>()),
+        plan(make_pin_plan(topology->info(), parse_pin_policy(o.pin), o.threads)),
         rays(RayScene::from_scene(s)),
-        hierarchy(s, o.threads),
+        hierarchy(s, o.threads,
+                  ArenaPlacement{parse_placement(o.placement), topology->info().numa_nodes,
+                                 plan.worker_nodes(), topology.get()}),
         transport(hierarchy, rays, o.visibility_rays, o.seed, parse_cluster_model(o.cluster_model)),
         oracle(make_oracle(o.oracle)),
         row_sum_mode(parse_row_sum_mode(o.row_sums)),
@@ -75,6 +85,10 @@ struct Solver::Impl {
       total_area += a;
       emitted_power += a * s.face_material(f).emission.maxCoeff();
     }
+    effects = analyse_effects(s, o);
+    transport.set_visibility_effect(effects.visibility.on);
+    transport.set_shaft_culling(o.shaft_culling == "on" &&
+                                parse_effects_mode(o.effects) == EffectsMode::Auto);
   }
 };
 
@@ -98,22 +112,34 @@ RunStats Solver::run() {
   LockPool link_locks(pool, o.threads);
   const RefineLimits limits{o.eps * m.emitted_power, o.min_area * m.total_area};
   Refiner refiner(m.hierarchy, m.transport, *m.oracle, limits, element_locks, link_locks);
+  refiner.set_binding(m.topology.get(), &m.plan);
+  add_placement_warnings(m.plan, m.topology->info(), m.hierarchy, o, stats.warnings);
+  const SchedulerConfig sched_config{o.threads, o.block_size, m.topology->info().numa_nodes,
+                                     m.plan.worker_nodes(), parse_pool_order(o.pool_order)};
 
-  if (m.emitted_power <= 0) {
-    stats.warnings.push_back("no face emits light: the solution is zero and nothing was refined");
-  }
+  stats.effects = m.effects;
+  const bool auto_effects = parse_effects_mode(o.effects) == EffectsMode::Auto;
+  const bool solve = m.effects.emission.on;
+  if (m.emitted_power <= 0)
+    stats.warnings.push_back(solve ? "scene has no emitter: the solution is zero (solved anyway: "
+                                     "effects = all)"
+                                   : "scene has no emitter: the solution is zero; nothing was "
+                                     "refined or propagated");
   std::vector<TraceRecord> trace;
   std::vector<Task> tasks;
-  if (m.emitted_power > 0) tasks.push_back(Task{&m.hierarchy.root(), &m.hierarchy.root()});
+  if (solve) tasks.push_back(Task{&m.hierarchy.root(), &m.hierarchy.root()});
+  // Interreflection off (every reflectance 0): one sweep gives B = E exactly.
+  const int max_sweeps = m.effects.interreflection.on ? o.max_gather_sweeps : 1;
+  const bool grey = !m.effects.colour.on;
 
-  for (int it = 1; it <= o.iterations && m.emitted_power > 0; ++it) {
+  for (int it = 1; it <= o.iterations && solve; ++it) {
     IterationStats is;
     is.iteration = it;
     const double base = static_cast<double>(it - 1) / o.iterations;
     if (m.progress) m.progress(fmt::format("iteration {}/{}: refine", it, o.iterations), base);
     element_locks.reset_counters();
     link_locks.reset_counters();
-    auto scheduler = make_scheduler(o.scheduler, SchedulerConfig{o.threads, o.block_size});
+    auto scheduler = make_scheduler(o.scheduler, sched_config);
     auto t0 = Clock::now();
     RefineCounters rc = refiner.run(*scheduler, std::move(tasks), o.threads, o.block_size,
                                     o.trace.empty() ? 0 : it);
@@ -123,6 +149,7 @@ RunStats Solver::run() {
     is.refine_cpu_s = rc.busy_s;
     is.idle_s = rc.idle_s;
     is.peak_parallelism = rc.peak_parallelism;
+    is.load_s = rc.load_s;
     is.tasks = rc.tasks;
     is.links_created = rc.links_created;
     is.rays_cast = rc.rays_cast;
@@ -134,6 +161,7 @@ RunStats Solver::run() {
                                          element_locks.wait_seconds(id) + link_locks.wait_seconds(id),
                                          c.rays_cast});
     }
+    record_numa_stats(is, rc, m.plan, m.hierarchy, stats.warnings);
     const SchedulerCounters sc = scheduler->counters();
     is.steals = sc.steals;
     is.scheduler_ops = sc.takes + sc.empty_takes + sc.submits;
@@ -153,7 +181,7 @@ RunStats Solver::run() {
     is.row_sum_mean = rs.area_mean;
     is.row_sum_corrected = rs.corrected;
     const PropagationResult pr =
-        propagate(elements, o.gather_tolerance, o.max_gather_sweeps, o.threads, m.receiver_mode);
+        propagate(elements, o.gather_tolerance, max_sweeps, o.threads, m.receiver_mode, grey);
     is.propagate_wall_s = since(t0);
     is.gather_sweeps = pr.sweeps;
     is.max_change = pr.last_change;
@@ -161,7 +189,7 @@ RunStats Solver::run() {
       stats.warnings.push_back(fmt::format(
           "iteration {}: propagation diverged after {} sweeps (transport row sums above 1)", it,
           pr.sweeps));
-    else if (!pr.converged)
+    else if (!pr.converged && m.effects.interreflection.on)
       stats.warnings.push_back(fmt::format(
           "iteration {}: propagation stopped at the cap of {} sweeps (change {:.3g})", it,
           pr.sweeps, pr.last_change));
@@ -177,6 +205,17 @@ RunStats Solver::run() {
     is.bytes["links"] = link_bytes;
     is.peak_rss_bytes = peak_rss_bytes();
     stats.iterations.push_back(is);
+    stats.totals.iterations_run = it;
+    // Every task was a reloaded link accepted again (no link created, none split) and
+    // the radiosity did not change by a bit: the next iteration would repeat this one.
+    if (auto_effects && it < o.iterations && rc.tasks == rc.links_kept && rc.links_created == 0 &&
+        pr.sweeps == 1 && pr.last_change == 0) {
+      stats.effects.iterations = {
+          false, fmt::format("stopped after iteration {} of {}: it re-accepted every link, created "
+                             "none and changed no radiosity, so the rest would repeat it",
+                             it, o.iterations)};
+      break;
+    }
     if (it < o.iterations) tasks = Refiner::reload_links(elements);
   }
   if (!o.trace.empty()) {
@@ -305,7 +344,8 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
         const auto b = static_cast<std::uint64_t>(3 * j);
         const Vec3 q = m.hierarchy.sample_point(*s, hashed_uniform(key, b), hashed_uniform(key, b + 1),
                                                 hashed_uniform(key, b + 2));
-        if (!m.rays.occluded(pr.p, q)) ++open;
+        // q lies on s's polygon, which cannot block (see RayScene::occluded).
+        if (!m.rays.occluded(pr.p, q, RayScene::kNoPolygon, s->face)) ++open;
       }
       sum += f * (static_cast<double>(open) / k) * s->B;
     }

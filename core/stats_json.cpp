@@ -41,9 +41,16 @@ nlohmann::json refiners_json(const std::vector<RefinerStats>& refiners) {
                    {"busy_s", number(r.busy_s)},
                    {"idle_s", number(r.idle_s)},
                    {"lock_wait_s", number(r.lock_wait_s)},
-                   {"rays_cast", r.rays_cast}});
+                   {"rays_cast", r.rays_cast},
+                   {"node", r.node},
+                   {"pus", r.pus},
+                   {"bound", r.bound},
+                   {"tasks_local", r.tasks_local},
+                   {"tasks_remote", r.tasks_remote}});
   return out;
 }
+
+nlohmann::json effect_json(const Effect& e) { return {{"on", e.on}, {"reason", e.reason}}; }
 
 nlohmann::json iteration_json(const IterationStats& it) {
   return {
@@ -65,8 +72,11 @@ nlohmann::json iteration_json(const IterationStats& it) {
       {"gather_sweeps", it.gather_sweeps},
       {"max_change", number(it.max_change)},
       {"peak_parallelism", it.peak_parallelism},
+      {"load_s", it.load_s},
       {"steals", it.steals},
       {"refiners", refiners_json(it.refiners)},
+      {"bytes_per_node", it.bytes_per_node},
+      {"local_access_ratio", number(it.local_access_ratio)},
       {"bytes_per_link", number(per(it.bytes, "links", it.links))},
       {"bytes_per_element", number(per(it.bytes, "elements", it.elements))},
       {"row_sums",
@@ -95,7 +105,14 @@ nlohmann::json stats_to_json(const RunStats& stats) {
            {"rays_cast", t.rays_cast},
            {"rays_skipped", t.rays_skipped},
            {"peak_rss_bytes", t.peak_rss_bytes},
+           {"iterations_run", t.iterations_run},
        }},
+      {"effects",
+       {{"visibility", effect_json(stats.effects.visibility)},
+        {"interreflection", effect_json(stats.effects.interreflection)},
+        {"colour", effect_json(stats.effects.colour)},
+        {"emission", effect_json(stats.effects.emission)},
+        {"iterations", effect_json(stats.effects.iterations)}}},
       {"warnings", stats.warnings},
   };
 }

@@ -55,7 +55,8 @@ Transport::Transport(const Hierarchy& hierarchy, const RayScene& rays, int visib
       seed_(seed),
       model_(model),
       scale_(hierarchy.scene().bounds().diagonal()),
-      plane_tol_(1e-9 * hierarchy.scene().bounds().diagonal()) {}
+      plane_tol_(1e-9 * hierarchy.scene().bounds().diagonal()),
+      shafts_(hierarchy) {}
 
 PairClass Transport::classify(const Element& r, const Element& s) const {
   if (&r == &s) return r.is_cluster() ? PairClass::SourceInside : PairClass::Cull;
@@ -106,17 +107,27 @@ double Transport::form_factor_spread(const Element& r, const Element& s) const {
   return hi - lo;
 }
 
-double Transport::visibility(const Element& r, const Element& s, std::uint64_t& rays) const {
+double Transport::visibility(const Element& r, const Element& s, std::uint64_t& rays,
+                             std::uint64_t& skipped) const {
   if (visibility_rays_ <= 0) return 1.0;
+  // The rays would all be unblocked: their fraction is exactly 1.
+  if (!visibility_on_ || (shaft_culling_ && shafts_.clear(r, s))) {
+    skipped += static_cast<std::uint64_t>(visibility_rays_);
+    return 1.0;
+  }
   const std::uint64_t key = mix64(mix64(r.id ^ seed_) + s.id);
   int open = 0;
   for (int k = 0; k < visibility_rays_; ++k) {
     const auto i = static_cast<std::uint64_t>(6 * k);
+    // The polygons the end points lie on cannot block the segment (it meets each
+    // one's plane only at its end); in single precision a grazing segment would
+    // still be reported blocked by them, so the query ignores both.
+    std::uint32_t fa = RayScene::kNoPolygon, fb = RayScene::kNoPolygon;
     const Vec3 a = hierarchy_.sample_point(r, hashed_uniform(key, i), hashed_uniform(key, i + 1),
-                                           hashed_uniform(key, i + 2), &s.center);
+                                           hashed_uniform(key, i + 2), &s.center, &fa);
     const Vec3 b = hierarchy_.sample_point(s, hashed_uniform(key, i + 3), hashed_uniform(key, i + 4),
-                                           hashed_uniform(key, i + 5), &r.center);
-    if (!rays_.occluded(a, b)) ++open;
+                                           hashed_uniform(key, i + 5), &r.center, &fb);
+    if (!rays_.occluded(a, b, fa, fb)) ++open;
   }
   rays += static_cast<std::uint64_t>(visibility_rays_);
   return static_cast<double>(open) / visibility_rays_;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "core/element.h"
+#include "core/shaft.h"
 
 #include <cstdint>
 #include <string>
@@ -50,8 +51,21 @@ class Transport {
   /// Spread of the point-to-source form factor over the receiver's corners and
   /// centre (surface pairs; 0 for clusters).
   [[nodiscard]] double form_factor_spread(const Element& r, const Element& s) const;
-  /// Fraction of unblocked segments; adds the rays cast to `rays`.
-  [[nodiscard]] double visibility(const Element& r, const Element& s, std::uint64_t& rays) const;
+  /// Fraction of unblocked segments; adds the rays cast to `rays` and the rays not
+  /// needed (visibility off for the scene, or an empty shaft: V = 1) to `skipped`.
+  [[nodiscard]] double visibility(const Element& r, const Element& s, std::uint64_t& rays,
+                                  std::uint64_t& skipped) const;
+  /// The same, without counting skipped rays.
+  [[nodiscard]] double visibility(const Element& r, const Element& s, std::uint64_t& rays) const {
+    std::uint64_t skipped = 0;
+    return visibility(r, s, rays, skipped);
+  }
+  /// Scene-wide visibility effect (core/effects.h): off means V = 1 without rays,
+  /// which is exact when nothing in the scene can block (a convex enclosure).
+  void set_visibility_effect(bool on) { visibility_on_ = on; }
+  /// Per-pair shaft culling (core/shaft.h): V = 1 without rays when the shaft
+  /// between the two elements holds no polygon.
+  void set_shaft_culling(bool on) { shaft_culling_ = on; }
   [[nodiscard]] int rays_per_link() const { return visibility_rays_; }
   [[nodiscard]] double scale() const { return scale_; }
 
@@ -63,6 +77,9 @@ class Transport {
   ClusterModel model_;
   double scale_;      ///< scene bounding-box diagonal
   double plane_tol_;  ///< distance below which a point counts as on a plane
+  bool visibility_on_ = true;
+  bool shaft_culling_ = false;
+  ShaftCuller shafts_;
 };
 
 /// Counter-based random numbers: the i-th uniform double in [0,1) of stream `key`.

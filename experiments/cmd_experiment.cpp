@@ -1,30 +1,161 @@
-// `hrad experiment CONFIG.json`: the experiment harness (sweeps over scenes, schedulers,
-// thread counts; issue 6). Until it lands this command only checks that the file
-// exists and says honestly that nothing was run (exit status 2).
+// `hrad experiment CONFIG.json [options]`: run an experiment configuration (a sweep
+// over scenes and solver options, experiments/harness/experiment_config.h) and write
+// its result folder: runs.csv, iterations.csv, manifest.json, then the plots.
+//
+// Order of events, so that bad input never leaves a folder behind:
+//   1. the config is read and checked; --quick, then each --set, are applied;
+//   2. the sweep is expanded (every point's options range-checked);
+//   3. with --dry-run the points are listed and nothing is written;
+//   4. the result folder is created (or reopened: --resume DIR, or --out naming an
+//      existing result folder) and the missing runs run (experiment_runner.h);
+//   5. the config's plot scripts run on the folder (unless --no-plot).
+// Exit status: 0 on success; 1 for bad input or a failed run (message on stderr
+// starting with "hrad: "); 2 when the runs succeeded but a plot failed.
 #include "experiments/commands.h"
+#include "experiments/harness/experiment_config.h"
+#include "experiments/harness/experiment_runner.h"
+#include "experiments/harness/manifest.h"
+#include "experiments/harness/plot_runner.h"
+#include "experiments/harness/sweep.h"
 
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace hrad::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace hrad::experiment;
+
+struct ExperimentArgs {
+  std::string config, out, resume, plots_dir, simulated;
+  std::vector<std::string> sets;
+  bool quick = false, no_plot = false, quiet = false, dry_run = false;
+};
+
+int run_command(const ExperimentArgs& a, const CommandContext& ctx) {
+  ExperimentConfig config;
+  std::vector<SweepPoint> points;
+  try {
+    config = load_experiment_config(a.config);
+    if (a.quick) config = apply_quick(config);
+    for (const std::string& s : a.sets) apply_experiment_set(config, s);
+    points = expand_sweep(config);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: {}\n", e.what());
+    return 1;
+  }
+  if (!a.out.empty() && !a.resume.empty() && fs::path(a.out) != fs::path(a.resume)) {
+    fmt::print(stderr, "hrad: --out and --resume name different folders\n");
+    return 1;
+  }
+
+  if (a.dry_run) {
+    fmt::print("{}: {} points x {} repetitions = {} runs\n", config.name, points.size(),
+               config.repetitions, points.size() * static_cast<std::size_t>(config.repetitions));
+    for (const SweepPoint& p : points)
+      fmt::print("  {:4}  {}  {}\n", p.index, p.scene, describe_point(p));
+    return 0;
+  }
+
+  fs::path dir;
+  if (!a.resume.empty()) {
+    dir = a.resume;
+    if (!is_result_folder(dir)) {
+      fmt::print(stderr, "hrad: --resume {}: not an experiment result folder (no manifest.json)\n",
+                 a.resume);
+      return 1;
+    }
+  } else if (!a.out.empty()) {
+    dir = a.out;
+  } else {
+    const fs::path base = fs::path("results") / config.name /
+                          (now_stamp() + (a.quick ? "-quick" : ""));
+    dir = base;
+    for (int i = 2; fs::exists(dir); ++i) dir = base.string() + "-" + std::to_string(i);
+  }
+
+  ManifestInputs inputs;
+  inputs.config = config;
+  inputs.config_file = a.config;
+  inputs.quick = a.quick;
+  inputs.sets = a.sets;
+  inputs.command_line = ctx.argv;
+  inputs.version = kVersion;
+  inputs.git_revision = git_revision();
+  inputs.points = static_cast<int>(points.size());
+
+  RunnerSettings settings;
+  settings.dir = dir;
+  settings.quiet = a.quiet;
+  try {
+    const ExperimentSummary s = run_experiment(inputs, points, settings);
+    if (!a.quiet)
+      fmt::print("Experiment {}: {} runs ({} run now, {} already done) in {:.1f} s. Results in "
+                 "{}: runs.csv, iterations.csv, manifest.json.\n",
+                 config.name, s.runs, s.ran, s.skipped, s.seconds, dir.string());
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: {}\n", e.what());
+    if (is_result_folder(dir))
+      fmt::print(stderr, "hrad: finished runs are kept; resume with: hrad experiment {} --resume {}\n",
+                 a.config, dir.string());
+    return 1;
+  }
+
+  std::fflush(stdout);  // the summary before the plots' own lines
+  if (a.no_plot) return 0;
+  std::vector<std::string> extra;
+  if (!a.simulated.empty()) extra = {"--simulated", a.simulated};
+  const fs::path plots_dir = a.plots_dir.empty() ? default_plots_dir() : fs::path(a.plots_dir);
+  return run_plots(config.plots, dir, plots_dir, extra, stderr) ? 0 : 2;
+}
+
+}  // namespace
 
 void register_experiment(CLI::App& app, CommandContext& ctx) {
+  auto args = std::make_shared<ExperimentArgs>();
   CLI::App* sub = app.add_subcommand(
-      "experiment", "Run an experiment described by a JSON file (not built yet: issue 6).");
-  auto config = std::make_shared<std::string>();
-  sub->add_option("CONFIG", *config, "Experiment configuration (JSON)")->required();
-  sub->callback([&ctx, config] {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(*config, ec)) {
-      fmt::print(stderr, "hrad: {}: no such file\n", *config);
-      ctx.status = 1;
-      return;
-    }
-    fmt::print(stderr, "hrad experiment: the experiment harness is not built yet (issue 6)\n");
-    ctx.status = 2;
-  });
+      "experiment",
+      "Run an experiment configuration (a sweep over scenes and options) and write "
+      "runs.csv, iterations.csv, manifest.json and its plots.");
+  sub->add_option("CONFIG", args->config,
+                  "Experiment configuration (JSON; see README, 'Experiments')")
+      ->required();
+  sub->add_flag("--quick", args->quick,
+                "Apply the config's 'quick' overrides (smaller scenes, fewer points and "
+                "repetitions): a whole config in under a minute");
+  sub->add_option("--set", args->sets,
+                  "Override after the config (and --quick): an option key fixes that option "
+                  "(removing it from the sweep), 'sweep.KEY=V1,V2,...' sweeps it, 'repetitions=N', "
+                  "'scenes=SPEC[,SPEC...]'; "
+                  "repeatable")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);
+  sub->add_option("--out", args->out,
+                  "Result folder [default: results/<name>/<YYYYmmdd-HHMMSS>[-quick]/]; an "
+                  "existing result folder of the same configuration is resumed")
+      ->type_name("DIR");
+  sub->add_option("--resume", args->resume,
+                  "Resume an interrupted experiment in DIR: runs already in its runs.csv are "
+                  "skipped (same config, --quick and --set as before)")
+      ->type_name("DIR");
+  sub->add_flag("--no-plot", args->no_plot, "Do not run the plot scripts at the end");
+  sub->add_option("--plots-dir", args->plots_dir,
+                  "Folder of the plot scripts [default: $HRAD_PLOTS_DIR, else the source "
+                  "tree's plots/]")
+      ->type_name("DIR");
+  sub->add_option("--simulated", args->simulated,
+                  "Simulated speedup CSV (from 'hrad simulate') for the speedup plot to draw "
+                  "dashed")
+      ->type_name("FILE");
+  sub->add_flag("--dry-run", args->dry_run, "List the points and exit; nothing is run or written");
+  sub->add_flag("--quiet", args->quiet, "No progress lines and no summary");
+  sub->callback([args, &ctx] { ctx.status = run_command(*args, ctx); });
 }
 
 }  // namespace hrad::cli

@@ -2,7 +2,10 @@
 //   solve       cmd_solve.cpp       solve one scene, write the result files
 //   scenes      cmd_scenes.cpp      list the built-in scenes and their parameters
 //   topology    cmd_topology.cpp    print the machine's topology as hwloc sees it
-//   experiment  cmd_experiment.cpp  run an experiment configuration (not built yet)
+//   experiment  cmd_experiment.cpp  run an experiment configuration (experiments/harness/)
+//   simulate    cmd_simulate.cpp    replay a task trace on more processors (experiments/sim/)
+//   reference   cmd_reference.cpp   Monte Carlo path-traced probe irradiance
+//   compare     cmd_compare.cpp     error metrics between two results
 // Each register_* adds its subcommand to `app`; when that subcommand is chosen, its
 // callback runs the command and stores the process exit status in `ctx.status`.
 #pragma once
@@ -31,5 +34,8 @@ void register_solve(CLI::App& app, CommandContext& ctx);
 void register_scenes(CLI::App& app, CommandContext& ctx);
 void register_topology(CLI::App& app, CommandContext& ctx);
 void register_experiment(CLI::App& app, CommandContext& ctx);
+void register_simulate(CLI::App& app, CommandContext& ctx);
+void register_reference(CLI::App& app, CommandContext& ctx);
+void register_compare(CLI::App& app, CommandContext& ctx);
 
 }  // namespace hrad::cli

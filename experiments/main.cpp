@@ -25,8 +25,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   register_solve(app, ctx);
   register_experiment(app, ctx);
+  register_simulate(app, ctx);
   register_scenes(app, ctx);
   register_topology(app, ctx);
+  register_reference(app, ctx);
+  register_compare(app, ctx);
   app.footer("Run 'hrad COMMAND --help' for the options of a command.");
 
   try {

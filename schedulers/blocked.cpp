@@ -20,9 +20,13 @@
 // Order: LIFO over chunks and newest first inside a chunk, i.e. exactly the order of
 // `stack`: depth-first, like the recursion. A take may span chunks.
 //
+// The chunk stack itself is schedulers/chunk_stack.h (shared with `locality`).
+//
 // Lock waits are timed only when the lock is contended (try_lock first), as in
 // CentralPool.
 #include "core/timed_lock.h"
+#include "schedulers/chunk_stack.h"
+#include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
 
 #include <algorithm>
@@ -31,11 +35,6 @@
 
 namespace hrad {
 namespace {
-
-// Buffers bigger than this (in tasks) are freed rather than recycled, so a huge initial
-// batch does not stay allocated; and at most kMaxSpares emptied buffers wait for reuse.
-constexpr std::size_t kMaxRecycledCapacity = std::size_t{1} << 14;
-constexpr std::size_t kMaxSpares = 64;
 
 // This thread's buffer for its next submit (shared by all BlockedSchedulers: it is only
 // memory, never holds tasks between calls).
@@ -47,10 +46,7 @@ std::vector<Task>& thread_spare() {
 class BlockedScheduler final : public IScheduler {
  public:
   explicit BlockedScheduler(const SchedulerConfig& config)
-      : block_size_(static_cast<std::size_t>(config.block_size)) {
-    chunks_.reserve(kMaxSpares);
-    spares_.reserve(kMaxSpares);
-  }
+      : block_size_(static_cast<std::size_t>(config.block_size)), order_(config.pool_order) {}
 
   std::size_t take(int /*worker*/, std::span<Task> out) override {
     const std::size_t want = std::min(out.size(), block_size_);
@@ -58,21 +54,7 @@ class BlockedScheduler final : public IScheduler {
     std::size_t n = 0;
     {
       std::unique_lock lock = acquire();
-      while (n < want && !chunks_.empty()) {
-        std::vector<Task>& top = chunks_.back();
-        const std::size_t k = std::min(want - n, top.size());
-        std::reverse_copy(top.end() - static_cast<std::ptrdiff_t>(k), top.end(),
-                          out.begin() + static_cast<std::ptrdiff_t>(n));
-        top.resize(top.size() - k);  // Task is trivially destructible: O(1)
-        n += k;
-        if (top.empty()) {
-          if (top.capacity() <= kMaxRecycledCapacity && spares_.size() < kMaxSpares)
-            spares_.push_back(std::move(top));
-          else
-            discard.swap(top);  // a previous discard, if any, is freed here (rare)
-          chunks_.pop_back();
-        }
-      }
+      n = chunks_.pop(out, want, discard);
       if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
     }
     return n;
@@ -82,12 +64,9 @@ class BlockedScheduler final : public IScheduler {
     if (tasks.empty()) return;
     std::vector<Task>& spare = thread_spare();
     spare.assign(tasks.begin(), tasks.end());  // the copy, outside the lock
+    order_batch(spare, order_);
     std::unique_lock lock = acquire();
-    chunks_.push_back(std::move(spare));  // O(1): moves the buffer, not the tasks
-    if (!spares_.empty()) {
-      spare = std::move(spares_.back());  // `spare` was moved from: nothing is freed
-      spares_.pop_back();
-    }
+    chunks_.push(spare);  // O(1): moves the buffer in, a recycled one out
     ++counters_.submits;
   }
 
@@ -102,9 +81,9 @@ class BlockedScheduler final : public IScheduler {
   std::unique_lock<std::mutex> acquire() { return timed_lock(mutex_, counters_.lock_wait_s); }
 
   const std::size_t block_size_;
+  const PoolOrder order_;
   mutable std::mutex mutex_;
-  std::vector<std::vector<Task>> chunks_;  // guarded by mutex_; back() is the top
-  std::vector<std::vector<Task>> spares_;  // guarded by mutex_; empty, capacity kept
+  ChunkStack chunks_;                      // guarded by mutex_
   SchedulerCounters counters_;             // guarded by mutex_
 };
 

@@ -7,10 +7,12 @@
 #pragma once
 
 #include "core/timed_lock.h"
+#include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
 
 #include <algorithm>
 #include <mutex>
+#include <vector>
 
 namespace hrad {
 
@@ -19,7 +21,9 @@ template <class Container>
 class CentralPool : public IScheduler {
  public:
   CentralPool(const SchedulerConfig& config, const char* name)
-      : block_size_(static_cast<std::size_t>(config.block_size)), name_(name) {}
+      : block_size_(static_cast<std::size_t>(config.block_size)),
+        order_(config.pool_order),
+        name_(name) {}
 
   std::size_t take(int /*worker*/, std::span<Task> out) override {
     const std::size_t want = std::min(out.size(), block_size_);
@@ -34,6 +38,12 @@ class CentralPool : public IScheduler {
 
   void submit(int /*worker*/, std::span<const Task> tasks) override {
     if (tasks.empty()) return;
+    std::vector<Task> sorted;  // pool_order: sorted outside the lock
+    if (order_ != PoolOrder::Submitted) {
+      sorted.assign(tasks.begin(), tasks.end());
+      order_batch(sorted, order_);
+      tasks = sorted;
+    }
     std::unique_lock lock = acquire();
     for (const Task& t : tasks) tasks_.push(t);
     ++counters_.submits;
@@ -53,6 +63,7 @@ class CentralPool : public IScheduler {
   Container tasks_;
   SchedulerCounters counters_;
   std::size_t block_size_;
+  PoolOrder order_;
   const char* name_;
 };
 

@@ -8,7 +8,8 @@
 // Contract for every scheduler:
 //  - every task submitted is returned by take() exactly once;
 //  - take() never blocks: it returns 0 when it has nothing for this worker now;
-//  - take(), submit() and load() may be called concurrently from any workers;
+//  - take() and submit() may be called concurrently from any workers, and submit()
+//    also from the solver thread loading initial tasks (as worker 0);
 //  - a scheduler may use `worker` to keep per-worker queues or locality.
 #pragma once
 
@@ -34,9 +35,21 @@ struct Task {
   std::uint64_t id = 0;   ///< trace id (see core/trace.h); set by the refinement driver
 };
 
+/// How a central pool orders each submitted batch before it enters the pool
+/// (schedulers/pool_order.h): as submitted, by receiver address, or by the receiver's
+/// input polygon (its subtree of the hierarchy), then address.
+enum class PoolOrder { Submitted, Address, Subtree };
+
 struct SchedulerConfig {
   int threads = 1;     ///< number of workers that will call take/submit
   int block_size = 1;  ///< at most this many tasks per take()
+  /// NUMA placement (used by `locality`): nodes the elements may live on, and the
+  /// node each worker runs on (empty: every worker on node 0). With numa_nodes > 1
+  /// a scheduler may read task.receiver->home_node.
+  int numa_nodes = 1;
+  std::vector<int> worker_node;
+  /// Batch order of the central pools (stack, fifo, priority, blocked, locality).
+  PoolOrder pool_order = PoolOrder::Submitted;
 };
 
 /// Counters a scheduler keeps; summed over workers.

@@ -389,7 +389,7 @@ TEST(SchedStealing, StealsAtMostBlockSize) {
 
 TEST(SchedRegistry, KnowsTheFiveSchedulers) {
   const std::vector<std::string> names = scheduler_names();
-  for (const char* n : {"stack", "fifo", "priority", "stealing", "blocked"})
+  for (const char* n : {"stack", "fifo", "priority", "stealing", "blocked", "locality"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
   for (const std::string& n : names) {
     auto s = make_scheduler(n, SchedulerConfig{2, 3});

@@ -69,7 +69,8 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"max_change", Kind::Number},      {"peak_parallelism", Kind::Integer},
       {"bytes_per_link", Kind::Number},  {"bytes_per_element", Kind::Number},
       {"row_sums", Kind::Object},        {"steals", Kind::Integer},
-      {"refiners", Kind::Array},
+      {"refiners", Kind::Array},         {"load_s", Kind::Number},
+      {"bytes_per_node", Kind::Array},   {"local_access_ratio", Kind::Number},
   };
   ASSERT_TRUE(j.at("iterations").is_array());
   ASSERT_EQ(j["iterations"].size(), 2u);
@@ -87,6 +88,9 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
   ASSERT_EQ(second["refiners"].size(), 2u);
   EXPECT_EQ(second["refiners"][1]["takes"], 16);
   EXPECT_DOUBLE_EQ(second["refiners"][1]["idle_s"].get<double>(), 0.04);
+  EXPECT_EQ(second["refiners"][1]["bound"], "none");  // NUMA fields (README, NUMA studies)
+  EXPECT_EQ(second["refiners"][1]["node"], 0);
+  EXPECT_EQ(second["refiners"][1]["tasks_local"], 0);
   EXPECT_DOUBLE_EQ(second["bytes_per_element"].get<double>(), 4096.0 / 80.0);
   EXPECT_DOUBLE_EQ(second["refine_cpu_s"].get<double>(), 1.8);
   EXPECT_EQ(second["bytes"]["links"], 8192);
@@ -101,6 +105,7 @@ TEST(StatsJson, TotalsHaveTheDocumentedKeysWithTypes) {
       {"refine_cpu_s", Kind::Number},  {"links", Kind::Integer},
       {"elements", Kind::Integer},     {"rays_cast", Kind::Integer},
       {"rays_skipped", Kind::Integer}, {"peak_rss_bytes", Kind::Integer},
+      {"iterations_run", Kind::Integer},
   };
   for (const auto& [key, kind] : keys) {
     ASSERT_TRUE(t.contains(key)) << key;

@@ -33,7 +33,7 @@ using hrad::Task;
 // Names are fixed when benchmarks register (static initialisation, possibly before the
 // schedulers have registered themselves); BM_SchedulerListComplete fails loudly when a
 // registered scheduler is missing here.
-const char* const kSchedulers[] = {"stack", "fifo", "priority", "stealing", "blocked"};
+const char* const kSchedulers[] = {"stack", "fifo", "priority", "stealing", "blocked", "locality"};
 
 constexpr int kPopulation = 4096;  // tasks in the pool while the loop runs
 

@@ -1,0 +1,30 @@
+// NUMA report: what a run's placement study reads in stats.json — each refiner's
+// planned node and PUs and whether the binding was applied, its tasks whose
+// receiver lived on its own node versus another (Element::home_node, counted from
+// the arenas), the iteration's local-access ratio, and element bytes per node; plus
+// the warnings a placement deserves (a plan that wraps around, bindings that failed
+// or were only planned on a synthetic topology).
+#pragma once
+
+#include "core/hierarchy.h"
+#include "core/options.h"
+#include "core/pin_plan.h"
+#include "core/refiner.h"
+#include "core/run_stats.h"
+
+#include <string>
+#include <vector>
+
+namespace hrad {
+
+/// Warnings about the plan and the arenas' memory binding, once per run.
+void add_placement_warnings(const PinPlan& plan, const TopologyInfo& topology,
+                            const Hierarchy& hierarchy, const SolverOptions& options,
+                            std::vector<std::string>& warnings);
+
+/// Fills the NUMA fields of `is` (its refiners must already be there, one per
+/// worker of `rc.per_worker`); adds a warning when a refiner's binding failed.
+void record_numa_stats(IterationStats& is, const RefineCounters& rc, const PinPlan& plan,
+                       const Hierarchy& hierarchy, std::vector<std::string>& warnings);
+
+}  // namespace hrad

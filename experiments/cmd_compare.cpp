@@ -1,0 +1,179 @@
+// `hrad compare A B [--floor F] [--json FILE]`: error metrics of a result A against a
+// reference B (core/error_metrics.h).
+//
+//   A, B probes.csv files           probe metric
+//   A, B run folders                probe metric when both hold probes.csv, surface
+//                                   metric when both hold solution.ply (both when both)
+// When both folders name their scene (stats.json or reference.json), the scene sources
+// must agree. Prints a
+// table on stdout; --json FILE writes the same numbers (atomically). Exit 1 with a
+// message naming the files for anything that cannot be compared.
+#include "core/error_metrics.h"
+#include "core/ply_reader.h"
+#include "core/stats_json.h"
+#include "experiments/commands.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace hrad::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CompareArgs {
+  std::string a, b, json;
+  double floor = 0;
+  std::size_t samples = 200000;
+  std::uint64_t seed = 1;
+  bool per_probe = false;
+};
+
+nlohmann::json rgb_json(const Rgb& c) { return {c[0], c[1], c[2]}; }
+
+/// scene.source from DIR/stats.json (`solve`) or DIR/reference.json (`reference`), or ""
+/// when there is neither.
+std::string scene_source(const fs::path& dir) {
+  for (const char* name : {"stats.json", "reference.json"}) {
+    std::ifstream in(dir / name);
+    if (!in) continue;
+    try {
+      const nlohmann::json j = nlohmann::json::parse(in);
+      return j.at("scene").at("source").get<std::string>();
+    } catch (const std::exception&) {
+      continue;
+    }
+  }
+  return "";
+}
+
+nlohmann::json probe_report(const ProbeTable& a, const ProbeTable& b, double floor, bool rows) {
+  const ProbeComparison c = compare_probes(a, b, floor);
+  fmt::print("Probes: {} ({} against reference {})\n", c.probes.size(), a.file, b.file);
+  fmt::print("  relative error |a - r| / max(|r|, {:.4g}), largest channel:\n", c.floor);
+  fmt::print("    mean {:.4g}   rms {:.4g}   max {:.4g} (probe {})\n", c.mean, c.rms, c.max,
+             c.worst);
+  if (c.has_se)
+    fmt::print("  within 2 standard errors of the reference: {} of {}\n", c.within_2se,
+               c.probes.size());
+  if (rows) {
+    fmt::print("  {:>5} {:>12} {:>12} {:>10}{}\n", "probe", "E (result)", "E (ref)", "rel.err",
+               c.has_se ? "    |d|/SE" : "");
+    for (std::size_t i = 0; i < c.probes.size(); ++i) {
+      const ProbeError& e = c.probes[i];
+      fmt::print("  {:>5} {:>12.5g} {:>12.5g} {:>10.3g}", i, e.result.mean(), e.reference.mean(),
+                 e.rel_error);
+      if (c.has_se) fmt::print(" {:>10.3g}", e.z);
+      fmt::print("\n");
+    }
+  }
+  nlohmann::json per = nlohmann::json::array();
+  for (const ProbeError& e : c.probes) {
+    nlohmann::json p = {{"result", rgb_json(e.result)},
+                        {"reference", rgb_json(e.reference)},
+                        {"rel_error", e.rel_error}};
+    if (c.has_se) p["z"] = e.z;
+    per.push_back(p);
+  }
+  nlohmann::json j = {{"result", a.file},    {"reference", b.file}, {"floor", c.floor},
+                      {"count", c.probes.size()}, {"mean", c.mean}, {"rms", c.rms},
+                      {"max", c.max},        {"worst", c.worst},    {"per_probe", per}};
+  if (c.has_se) j["within_2se"] = c.within_2se;
+  return j;
+}
+
+nlohmann::json surface_report(const fs::path& a, const fs::path& b, std::size_t samples,
+                              std::uint64_t seed) {
+  const RenderMesh ma = read_ply(a), mb = read_ply(b);
+  const SurfaceComparison s = compare_surfaces(ma, mb, samples, seed);
+  fmt::print("Surfaces: {} ({} polygons) against reference {} ({} polygons), {} points, {} "
+             "unmatched\n",
+             a.string(), ma.polys.size(), b.string(), mb.polys.size(), s.samples, s.unmatched);
+  fmt::print("  radiosity relative to the reference's area-weighted mean:\n");
+  fmt::print("  {:>8} {:>10} {:>10} {:>10} {:>10}\n", "", "r", "g", "b", "all");
+  fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", "L1", s.l1[0], s.l1[1], s.l1[2],
+             s.l1_all);
+  fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", "L2", s.l2[0], s.l2[1], s.l2[2],
+             s.l2_all);
+  fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g}\n", "mean ref", s.reference_mean[0],
+             s.reference_mean[1], s.reference_mean[2]);
+  return {{"result", a.string()},
+          {"reference", b.string()},
+          {"polygons_result", ma.polys.size()},
+          {"polygons_reference", mb.polys.size()},
+          {"samples", s.samples},
+          {"unmatched", s.unmatched},
+          {"l1", rgb_json(s.l1)},
+          {"l2", rgb_json(s.l2)},
+          {"l1_all", s.l1_all},
+          {"l2_all", s.l2_all},
+          {"reference_mean", rgb_json(s.reference_mean)},
+          {"area_result", s.area_result},
+          {"area_reference", s.area_reference}};
+}
+
+int run_compare(const CompareArgs& args) {
+  try {
+    const fs::path a(args.a), b(args.b);
+    for (const fs::path& p : {a, b})
+      if (!fs::exists(p)) throw std::invalid_argument(fmt::format("{}: no such file or folder", p.string()));
+    nlohmann::json j = nlohmann::json::object();
+    if (!fs::is_directory(a) || !fs::is_directory(b)) {
+      j["probes"] = probe_report(read_probe_table(a), read_probe_table(b), args.floor, args.per_probe);
+    } else {
+      const std::string sa = scene_source(a), sb = scene_source(b);
+      if (!sa.empty() && !sb.empty() && sa != sb)
+        throw std::invalid_argument(fmt::format("{} solved '{}' but {} solved '{}': not the same scene",
+                                                a.string(), sa, b.string(), sb));
+      const bool probes = fs::exists(a / "probes.csv") && fs::exists(b / "probes.csv");
+      const bool surfaces = fs::exists(a / "solution.ply") && fs::exists(b / "solution.ply");
+      if (!probes && !surfaces)
+        throw std::invalid_argument(fmt::format(
+            "nothing to compare: {} and {} do not both hold probes.csv or both solution.ply",
+            a.string(), b.string()));
+      if (probes)
+        j["probes"] = probe_report(read_probe_table(a / "probes.csv"),
+                                   read_probe_table(b / "probes.csv"), args.floor, args.per_probe);
+      if (surfaces)
+        j["surfaces"] = surface_report(a / "solution.ply", b / "solution.ply", args.samples, args.seed);
+    }
+    if (!args.json.empty()) write_json_atomically(args.json, j);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void register_compare(CLI::App& app, CommandContext& ctx) {
+  auto args = std::make_shared<CompareArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "compare", "Error of a result A against a reference B: probes and/or surfaces.");
+  sub->add_option("A", args->a, "Result: a probes.csv, or a run folder")->required();
+  sub->add_option("B", args->b,
+                  "Reference: a probes.csv (e.g. from 'hrad reference'), or a run folder (e.g. "
+                  "a much finer 'hrad solve')")
+      ->required();
+  sub->add_option("--floor", args->floor,
+                  "Absolute irradiance floor of the probes' relative error [default: 1e-3 x "
+                  "the mean reference irradiance]")
+      ->type_name("X")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--samples", args->samples,
+                  "Surface metric: points drawn over the reference mesh [default: 200000]")
+      ->type_name("N")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32));
+  sub->add_option("--seed", args->seed, "Surface metric: seed of the sample points [default: 1]")
+      ->type_name("N");
+  sub->add_flag("--per-probe", args->per_probe, "Print one row per probe");
+  sub->add_option("--json", args->json, "Also write the numbers to FILE (JSON)")->type_name("FILE");
+  sub->callback([args, &ctx] { ctx.status = run_compare(*args); });
+}
+
+}  // namespace hrad::cli

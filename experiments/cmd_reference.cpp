@@ -1,0 +1,191 @@
+// `hrad reference SCENE --probes FILE --out DIR`: Monte Carlo path-traced irradiance at
+// probe points (core/path_tracer.h), the independent reference for `hrad solve`.
+//
+// Writes into DIR (created only after the scene and the probes have loaded):
+//   probes.csv      x,y,z,nx,ny,nz,E_r,E_g,E_b as `solve` writes it, then SE_r,SE_g,SE_b
+//                   (standard error of E per channel) and samples (paths traced);
+//   reference.json  options, floor, per-probe samples and convergence, time, rays.
+// Both atomically. Exit 1 on bad input; probes that miss the target are listed on stderr
+// and in reference.json, but the run still succeeds (status 0).
+#include "core/atomic_file.h"
+#include "core/path_tracer.h"
+#include "core/probes.h"
+#include "core/progress.h"
+#include "core/scene_loader.h"
+#include "core/stats_json.h"
+#include "experiments/commands.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <memory>
+
+namespace hrad::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ReferenceArgs {
+  std::string scene, probes, out;
+  PathTracerOptions options;
+  bool quiet = false;
+};
+
+std::string reference_csv(const std::vector<Probe>& probes, const ReferenceResult& r) {
+  std::string out = "x,y,z,nx,ny,nz,E_r,E_g,E_b,SE_r,SE_g,SE_b,samples\n";
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const Vec3& p = probes[i].p;
+    const Vec3& n = probes[i].n;
+    const Rgb& e = r.probes[i].irradiance;
+    const Rgb& s = r.probes[i].std_error;
+    out += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
+                       "{:.9g},{}\n",
+                       p[0], p[1], p[2], n[0], n[1], n[2], e[0], e[1], e[2], s[0], s[1], s[2],
+                       r.probes[i].samples);
+  }
+  return out;
+}
+
+int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
+  Scene scene;
+  std::vector<Probe> probes;
+  std::unique_ptr<PathTracer> tracer;
+  try {
+    scene = load_scene(a.scene);
+    probes = read_probes(a.probes);
+    if (probes.empty()) throw std::invalid_argument(fmt::format("{}: no probes", a.probes));
+    for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
+    tracer = std::make_unique<PathTracer>(scene);
+    // Option ranges, before anything is created (estimate() checks them too).
+    PathTracerOptions check = a.options;
+    if (!(check.rel_error > 0)) throw std::invalid_argument("--rel-error must be > 0");
+    if (check.threads < 1) throw std::invalid_argument("--threads must be >= 1");
+    if (check.max_samples < static_cast<std::uint64_t>(check.batch_size) * check.min_batches)
+      throw std::invalid_argument(fmt::format("--max-samples must be >= {}",
+                                              check.batch_size * check.min_batches));
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: {}\n", e.what());
+    return 1;
+  }
+
+  const fs::path out(a.out);
+  bool created = false;
+  try {
+    if (fs::exists(out) && !fs::is_directory(out))
+      throw std::runtime_error(fmt::format("{} exists and is not a directory", out.string()));
+    created = fs::create_directories(out);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: cannot create the output folder: {}\n", e.what());
+    return 1;
+  }
+
+  try {
+    ProgressReporter progress(a.quiet);
+    const ReferenceResult r = tracer->estimate(probes, a.options, progress.callback());
+    progress.finish();
+    write_file_atomically(out / "probes.csv", reference_csv(probes, r));
+
+    nlohmann::json unconverged = nlohmann::json::array();
+    nlohmann::json per_probe = nlohmann::json::array();
+    std::uint64_t total = 0;
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+      const ProbeEstimate& e = r.probes[i];
+      total += e.samples;
+      if (!e.converged) unconverged.push_back(i);
+      const Rgb rel = e.std_error / e.irradiance.abs().max(r.floor);
+      per_probe.push_back({{"samples", e.samples},
+                           {"converged", e.converged},
+                           {"relative_se", rel.maxCoeff()}});
+    }
+    const nlohmann::json j = {
+        {"hrad", {{"version", kVersion}, {"git_revision", git_revision()}}},
+        {"command_line", ctx.argv},
+        {"scene", {{"name", scene.name}, {"source", scene.source}}},
+        {"options",
+         {{"rel_error", a.options.rel_error},
+          {"abs_floor", a.options.abs_floor},
+          {"max_samples", a.options.max_samples},
+          {"seed", a.options.seed},
+          {"threads", a.options.threads},
+          {"batch_size", a.options.batch_size},
+          {"min_batches", a.options.min_batches},
+          {"rr_depth", a.options.rr_depth}}},
+        {"floor", {r.floor[0], r.floor[1], r.floor[2]}},
+        {"probes", probes.size()},
+        {"samples_total", total},
+        {"rounds", r.rounds},
+        {"rays_cast", r.rays},
+        {"wall_s", r.seconds},
+        {"converged", unconverged.empty()},
+        {"unconverged_probes", unconverged},
+        {"per_probe", per_probe},
+    };
+    write_json_atomically(out / "reference.json", j);
+
+    if (!unconverged.empty()) {
+      std::string list;
+      for (const auto& i : unconverged) list += (list.empty() ? "" : ", ") + std::to_string(i.get<std::size_t>());
+      fmt::print(stderr,
+                 "hrad: warning: {} of {} probes did not reach relative error {} within {} "
+                 "samples (0-based): {}\n",
+                 unconverged.size(), probes.size(), a.options.rel_error, a.options.max_samples,
+                 list);
+    }
+    if (!a.quiet)
+      fmt::print("Reference for {}: {} probes, {} paths, {} rays in {:.3g} s ({} round{}), {} "
+                 "converged to relative error {}. Results in {}: probes.csv, reference.json.\n",
+                 a.scene, probes.size(), total, r.rays, r.seconds, r.rounds,
+                 r.rounds == 1 ? "" : "s", probes.size() - unconverged.size(), a.options.rel_error,
+                 out.string());
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: {}\n", e.what());
+    std::error_code ec;
+    if (created && fs::is_empty(out, ec)) fs::remove(out, ec);
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void register_reference(CLI::App& app, CommandContext& ctx) {
+  auto args = std::make_shared<ReferenceArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "reference",
+      "Path-traced reference irradiance at probe points (writes probes.csv, reference.json).");
+  sub->add_option("SCENE", args->scene,
+                  "Scene: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[?k=v&...]")
+      ->required();
+  sub->add_option("--probes", args->probes,
+                  "Irradiance probes: one 'x y z nx ny nz' per line (scene units)")
+      ->type_name("FILE")
+      ->required();
+  sub->add_option("--out", args->out, "Output folder, created if missing, files in it replaced")
+      ->type_name("DIR")
+      ->required();
+  sub->add_option("--rel-error", args->options.rel_error,
+                  "Stop a probe when its standard error is below this fraction of its "
+                  "irradiance (per channel, with the floor) [default: 0.01]")
+      ->type_name("X");
+  sub->add_option("--floor", args->options.abs_floor,
+                  "Absolute irradiance floor of the relative-error test [default: 1e-3 x the "
+                  "mean probe irradiance]")
+      ->type_name("X");
+  sub->add_option("--max-samples", args->options.max_samples,
+                  fmt::format("Paths per probe at most [default: {}]", args->options.max_samples))
+      ->type_name("N");
+  sub->add_option("--batch-size", args->options.batch_size,
+                  "Paths per batch (the standard error comes from batch means) [default: 64]")
+      ->type_name("N")
+      ->check(CLI::Range(1, 1 << 20));
+  sub->add_option("--seed", args->options.seed, "Mixed into every random number [default: 1]")
+      ->type_name("N");
+  sub->add_option("--threads", args->options.threads,
+                  "OpenMP threads; results do not depend on it [default: 1]")
+      ->type_name("N");
+  sub->add_flag("--quiet", args->quiet, "No progress line and no summary");
+  sub->callback([args, &ctx] { ctx.status = run_reference(*args, ctx); });
+}
+
+}  // namespace hrad::cli

@@ -1,0 +1,45 @@
+// The experiment loop: every (point, repetition) of a sweep that the result folder
+// does not hold yet runs in this process through hrad::Solver, and its rows are
+// appended to runs.csv / iterations.csv at once (result_files.h), so an interrupted
+// experiment resumes where it stopped. Progress goes to a log stream (stderr): one
+// line per run with point i/n, the run's time, the elapsed time and an estimate of the
+// time left (mean time of the runs done so far x runs left), plus hrad's in-place
+// progress line within a run when the log is a terminal.
+#pragma once
+
+#include "experiments/harness/manifest.h"
+#include "experiments/harness/sweep.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hrad::experiment {
+
+struct RunnerSettings {
+  std::filesystem::path dir;  ///< result folder; created if missing
+  bool quiet = false;         ///< no progress lines (errors still thrown)
+  std::FILE* log = stderr;
+};
+
+struct ExperimentSummary {
+  int runs = 0;     ///< points x repetitions
+  int skipped = 0;  ///< already in runs.csv (resume)
+  int ran = 0;
+  double seconds = 0;  ///< wall time of this invocation
+};
+
+/// True when `dir` holds a manifest.json (a result folder to resume or extend).
+[[nodiscard]] bool is_result_folder(const std::filesystem::path& dir);
+
+/// Runs what is missing. For an existing result folder the manifest's resolved
+/// configuration must equal `inputs.config` and every runs.csv row must match its
+/// point's scene and swept values; otherwise std::runtime_error (nothing is changed).
+/// A failing run marks the manifest "failed" with the message and rethrows; rows of
+/// finished runs stay.
+ExperimentSummary run_experiment(const ManifestInputs& inputs,
+                                 const std::vector<SweepPoint>& points,
+                                 const RunnerSettings& settings);
+
+}  // namespace hrad::experiment

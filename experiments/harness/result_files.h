@@ -1,0 +1,43 @@
+// runs.csv and iterations.csv of one result folder, written run by run so that an
+// interrupted experiment loses at most the run in progress, and reopened for resume.
+//
+// A run is on disk once its runs.csv row is: its iterations.csv rows are appended and
+// flushed first, then the runs.csv row. Reopening a folder (resume) reads runs.csv,
+// checks its header against run_columns(), drops a last line that was cut off, drops
+// the iterations.csv rows of runs that have no runs.csv row, and rewrites both files
+// atomically (core/atomic_file.h) before appending again.
+#pragma once
+
+#include "experiments/harness/run_rows.h"
+#include "experiments/harness/sweep.h"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+namespace hrad::experiment {
+
+class ResultFiles {
+ public:
+  /// Opens (or creates) runs.csv and iterations.csv in `dir`, which must exist.
+  /// Throws std::runtime_error naming the file when an existing file has another
+  /// header, a row of the wrong width or a point/repetition that is not a number.
+  explicit ResultFiles(const std::filesystem::path& dir);
+
+  /// The runs already in runs.csv, each with its row (aligned with run_columns()).
+  [[nodiscard]] const std::map<RunId, Row>& done() const { return done_; }
+
+  /// Appends one run (iterations first, then the run row), flushing both files.
+  /// Throws std::runtime_error when a write fails.
+  void append(const RunId& id, const RunRows& rows);
+
+  static constexpr const char* kRuns = "runs.csv";
+  static constexpr const char* kIterations = "iterations.csv";
+
+ private:
+  std::filesystem::path dir_;
+  std::map<RunId, Row> done_;
+  std::ofstream runs_, iterations_;
+};
+
+}  // namespace hrad::experiment

@@ -1,0 +1,69 @@
+// The simulator's cost model: what the scheduler and the refinement loop cost beyond
+// the recorded task durations, per operation, in nanoseconds.
+//
+// | field          | meaning (time a processor spends; "held" = the lock is held)           |
+// |----------------|-------------------------------------------------------------------------|
+// | take_op_ns     | central lock held per take() (also an empty take)                       |
+// | take_task_ns   | central lock held per task taken                                        |
+// | submit_op_ns   | central lock held per submit()                                          |
+// | submit_task_ns | central lock held per task submitted (0 for `blocked`: O(1) submit)     |
+// | copy_task_ns   | per task submitted, outside the lock (`blocked` copies before locking)  |
+// | local_op_ns    | `stealing`: the owner's pop or push of a block on its own deque         |
+// | local_task_ns  | `stealing`: per task popped or pushed by the owner                      |
+// | steal_op_ns    | `stealing`: per steal (scan, victim choice), on the victim's deque      |
+// | steal_task_ns  | `stealing`: per stolen task (one CAS each), on the victim's deque       |
+// | block_ns       | per block, outside the scheduler (storing the block's links, counters)  |
+// | task_ns        | per task, outside its recorded duration (loop bookkeeping)              |
+// | start_ns       | per iteration, before the first take (starting the refiner threads)     |
+// | slowdown       | task durations are multiplied by this when 2 or more processors run     |
+//
+// Contention: the central lock (and the stealing inbox) has one holder at a time; each
+// stealing deque is a resource of its own (owner operations and steals on it are
+// serialised, different deques proceed in parallel). Waiting is first come, first served.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hrad::sim {
+
+/// The scheduling policies the simulator replays (schedulers/ has the real ones).
+enum class Policy { kStack, kFifo, kPriority, kBlocked, kStealing };
+
+/// "stack", "fifo", "priority", "blocked", "stealing"; throws std::invalid_argument
+/// listing them for any other name.
+Policy policy_from_name(const std::string& name);
+const char* policy_name(Policy p);
+std::vector<std::string> policy_names();
+
+struct CostModel {
+  double take_op_ns = 0;
+  double take_task_ns = 0;
+  double submit_op_ns = 0;
+  double submit_task_ns = 0;
+  double copy_task_ns = 0;
+  double local_op_ns = 0;
+  double local_task_ns = 0;
+  double steal_op_ns = 0;
+  double steal_task_ns = 0;
+  double block_ns = 0;
+  double task_ns = 0;
+  double start_ns = 0;
+  double slowdown = 1;
+};
+
+/// Defaults from the scheduler microbenchmark on the development VM (the fit is in
+/// cost_model.cpp): uncontended costs split into a per-operation and a per-task part.
+/// block_ns is 0 here (`hrad simulate` estimates it from the trace); slowdown is 1.
+CostModel default_costs(Policy policy);
+
+/// Overrides fields of `costs` from a JSON object whose keys are the field names
+/// above; an unknown key, a non-number or a negative value (slowdown: not > 0) is an
+/// error naming the file.
+void load_costs(const std::filesystem::path& file, CostModel& costs);
+
+/// The model as one JSON object (the field names above).
+std::string costs_to_json(const CostModel& costs);
+
+}  // namespace hrad::sim

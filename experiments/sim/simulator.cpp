@@ -1,0 +1,292 @@
+#include "experiments/sim/simulator.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <deque>
+#include <queue>
+#include <stdexcept>
+
+namespace hrad::sim {
+
+namespace {
+
+/// A lock or a deque: one holder at a time, granted in request order.
+struct Resource {
+  double free_at = 0;
+};
+
+struct Proc {
+  std::vector<std::uint32_t> block;
+  bool idle = false;
+  double idle_since = 0;
+  std::uint64_t rng = 0;
+};
+
+enum class EventKind { kTake, kBlockEnd, kLoad };
+
+struct Event {
+  double t = 0;
+  std::uint64_t seq = 0;  ///< ties: first scheduled, first served
+  int proc = 0;
+  EventKind kind = EventKind::kTake;
+  bool operator>(const Event& o) const { return t != o.t ? t > o.t : seq > o.seq; }
+};
+
+bool is_central(Policy p) { return p != Policy::kStealing; }
+bool takes_oldest(Policy p) { return p == Policy::kFifo || p == Policy::kPriority; }
+
+class IterationReplay {
+ public:
+  IterationReplay(const IterationGraph& g, const SimConfig& c, IterationResult& out,
+                  const std::function<void(std::uint64_t)>& on_tasks)
+      : g_(g), c_(c), k_(c.costs), out_(out), on_tasks_(on_tasks),
+        block_(static_cast<std::size_t>(c.block_size)),
+        slow_(c.procs >= 2 ? c.costs.slowdown : 1.0),
+        procs_(static_cast<std::size_t>(c.procs)),
+        deques_(is_central(c.policy) ? 0 : procs_.size()),
+        deque_locks_(deques_.size()),
+        runs_(g.tasks.size(), 0) {
+    for (std::size_t p = 0; p < procs_.size(); ++p)
+      procs_[p].rng = 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(p + 1);
+  }
+
+  void run() {
+    out_.iteration = g_.iteration;
+    // The solver thread loads the initial tasks in chunks while the refiners start.
+    const double start = k_.start_ns;
+    out_.overhead_ns += start * static_cast<double>(procs_.size());
+    schedule(start, -1, EventKind::kLoad);
+    for (std::size_t p = 0; p < procs_.size(); ++p) schedule(start, static_cast<int>(p), EventKind::kTake);
+    while (!events_.empty()) {
+      const Event e = events_.top();
+      events_.pop();
+      if (e.kind == EventKind::kTake)
+        take(e.proc, e.t);
+      else if (e.kind == EventKind::kBlockEnd)
+        block_end(e.proc, e.t);
+      else
+        load(e.t);
+    }
+    if (done_ != g_.tasks.size())
+      throw std::logic_error(fmt::format("simulation of iteration {} stalled: {} of {} tasks run",
+                                         g_.iteration, done_, g_.tasks.size()));
+    for (std::uint32_t r : runs_)
+      if (r != 1) throw std::logic_error("simulation ran a task more or less than once");
+    double end = 0;
+    for (const Proc& p : procs_) end = std::max(end, p.idle_since);
+    for (const Proc& p : procs_) out_.idle_ns += end - p.idle_since;
+    out_.time_ns = end;
+    if (c_.keep_executions) out_.executions = std::move(runs_);
+  }
+
+ private:
+  void schedule(double t, int proc, EventKind kind) { events_.push(Event{t, seq_++, proc, kind}); }
+
+  // Requests `r` at `t` for `held` ns; returns the release time. The solver thread's
+  // time (`processor` false) is not a processor's.
+  double acquire(Resource& r, double t, double held, bool processor = true) {
+    const double grant = std::max(t, r.free_at);
+    if (processor) {
+      out_.lock_wait_ns += grant - t;
+      out_.overhead_ns += held;
+    }
+    r.free_at = grant + held;
+    return r.free_at;
+  }
+
+  // Moves up to `n` tasks from `q` into `into`: the newest (back) or the oldest (front).
+  static void pop(std::deque<std::uint32_t>& q, std::size_t n, bool oldest,
+                  std::vector<std::uint32_t>& into) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (oldest) {
+        into.push_back(q.front());
+        q.pop_front();
+      } else {
+        into.push_back(q.back());
+        q.pop_back();
+      }
+    }
+  }
+
+  void take(int p, double t) {
+    Proc& me = procs_[static_cast<std::size_t>(p)];
+    me.block.clear();
+    double ready = t;
+    if (is_central(c_.policy)) {
+      const std::size_t n = std::min(block_, central_.size());
+      ready = acquire(lock_, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns);
+      pop(central_, n, takes_oldest(c_.policy), me.block);
+    } else {
+      auto& own = deques_[static_cast<std::size_t>(p)];
+      if (!own.empty()) {
+        const std::size_t n = std::min(block_, own.size());
+        ready = acquire(deque_locks_[static_cast<std::size_t>(p)], t,
+                        k_.local_op_ns + static_cast<double>(n) * k_.local_task_ns);
+        pop(own, n, false, me.block);
+      } else if (!central_.empty()) {  // the inbox: initial tasks, newest first
+        const std::size_t n = std::min(block_, central_.size());
+        ready = acquire(lock_, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns);
+        pop(central_, n, false, me.block);
+      } else if (procs_.size() > 1) {
+        me.rng ^= me.rng << 13;
+        me.rng ^= me.rng >> 7;
+        me.rng ^= me.rng << 17;
+        const std::size_t start = me.rng % procs_.size();
+        for (std::size_t i = 0; i < procs_.size(); ++i) {
+          const std::size_t v = (start + i) % procs_.size();
+          if (v == static_cast<std::size_t>(p) || deques_[v].empty()) continue;
+          const std::size_t n = std::min(block_, (deques_[v].size() + 1) / 2);
+          ready = acquire(deque_locks_[v], t, k_.steal_op_ns + static_cast<double>(n) * k_.steal_task_ns);
+          pop(deques_[v], n, true, me.block);
+          out_.steals += n;
+          break;
+        }
+      }
+    }
+    if (me.block.empty()) {
+      ++out_.empty_takes;
+      me.idle = true;
+      me.idle_since = ready;
+      idle_.push_back(p);
+      return;
+    }
+    ++out_.takes;
+    double work = 0;
+    for (std::uint32_t i : me.block) {
+      work += static_cast<double>(g_.tasks[i].duration_ns) * slow_ + k_.task_ns;
+      ++runs_[i];
+    }
+    done_ += me.block.size();
+    out_.tasks += me.block.size();
+    if (on_tasks_) on_tasks_(me.block.size());
+    out_.busy_ns += work - static_cast<double>(me.block.size()) * k_.task_ns;
+    out_.overhead_ns += k_.block_ns + static_cast<double>(me.block.size()) * k_.task_ns;
+    schedule(ready + work + k_.block_ns, p, EventKind::kBlockEnd);
+  }
+
+  void block_end(int p, double t) {
+    Proc& me = procs_[static_cast<std::size_t>(p)];
+    std::size_t created = 0;
+    for (std::uint32_t i : me.block) created += g_.tasks[i].children;
+    if (created == 0) {
+      schedule(t, p, EventKind::kTake);
+      return;
+    }
+    ++out_.submits;
+    double release = t;
+    std::deque<std::uint32_t>* q = &central_;
+    if (is_central(c_.policy)) {
+      const double copy = c_.policy == Policy::kBlocked ? static_cast<double>(created) * k_.copy_task_ns : 0;
+      out_.overhead_ns += copy;
+      release = acquire(lock_, t + copy,
+                        k_.submit_op_ns + static_cast<double>(created) * k_.submit_task_ns);
+    } else {
+      q = &deques_[static_cast<std::size_t>(p)];
+      release = acquire(deque_locks_[static_cast<std::size_t>(p)], t,
+                        k_.local_op_ns + static_cast<double>(created) * k_.local_task_ns);
+    }
+    for (std::uint32_t i : me.block) {
+      const SimTask& task = g_.tasks[i];
+      for (std::uint32_t c = 0; c < task.children; ++c) q->push_back(task.first_child + c);
+    }
+    schedule(release, p, EventKind::kTake);  // the submitter takes the next block itself
+    // Wake as many idle processors as further blocks are waiting.
+    wake(release, q->size() > block_ ? (q->size() - block_ + block_ - 1) / block_ : 0);
+  }
+
+  // The solver thread submits the next chunk of initial tasks (to the central pool, or
+  // the stealing inbox) and wakes idle processors for it.
+  void load(double t) {
+    const std::size_t n = std::min<std::size_t>(c_.load_chunk, g_.roots - loaded_);
+    const double copy = c_.policy == Policy::kBlocked ? static_cast<double>(n) * k_.copy_task_ns : 0;
+    const double release = acquire(lock_, t + copy,
+                                   k_.submit_op_ns + static_cast<double>(n) * k_.submit_task_ns, false);
+    for (std::size_t i = 0; i < n; ++i) central_.push_back(static_cast<std::uint32_t>(loaded_ + i));
+    loaded_ += n;
+    ++out_.submits;
+    if (loaded_ < g_.roots) schedule(release, -1, EventKind::kLoad);
+    wake(release, (central_.size() + block_ - 1) / block_);
+  }
+
+  void wake(double at, std::size_t count) {
+    for (std::size_t w = 0; w < count && !idle_.empty(); ++w) {
+      Proc& other = procs_[static_cast<std::size_t>(idle_.front())];
+      const double when = std::max(at, other.idle_since);
+      out_.idle_ns += when - other.idle_since;
+      other.idle = false;
+      schedule(when, idle_.front(), EventKind::kTake);
+      idle_.pop_front();
+    }
+  }
+
+  const IterationGraph& g_;
+  const SimConfig& c_;
+  const CostModel& k_;
+  IterationResult& out_;
+  const std::function<void(std::uint64_t)>& on_tasks_;
+  const std::size_t block_;
+  const double slow_;
+  std::vector<Proc> procs_;
+  std::deque<std::uint32_t> central_;  ///< the central pool, or the stealing inbox
+  Resource lock_;
+  std::vector<std::deque<std::uint32_t>> deques_;
+  std::vector<Resource> deque_locks_;
+  std::deque<int> idle_;  ///< idle processors, in the order they went idle
+  std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
+  std::uint64_t seq_ = 0;
+  std::size_t done_ = 0;
+  std::size_t loaded_ = 0;  ///< initial tasks submitted so far
+  std::vector<std::uint32_t> runs_;
+};
+
+}  // namespace
+
+double SimResult::time_ns() const {
+  double t = 0;
+  for (const IterationResult& r : iterations) t += r.time_ns;
+  return t;
+}
+
+IterationResult SimResult::totals() const {
+  IterationResult s;
+  for (const IterationResult& r : iterations) {
+    s.time_ns += r.time_ns;
+    s.busy_ns += r.busy_ns;
+    s.overhead_ns += r.overhead_ns;
+    s.lock_wait_ns += r.lock_wait_ns;
+    s.idle_ns += r.idle_ns;
+    s.tasks += r.tasks;
+    s.takes += r.takes;
+    s.empty_takes += r.empty_takes;
+    s.submits += r.submits;
+    s.steals += r.steals;
+  }
+  return s;
+}
+
+SimResult simulate(const TaskGraph& graph, const SimConfig& config,
+                   const std::function<void(double)>& progress) {
+  if (config.procs < 1)
+    throw std::invalid_argument(fmt::format("procs must be >= 1, not {}", config.procs));
+  if (config.block_size < 1)
+    throw std::invalid_argument(fmt::format("block size must be >= 1, not {}", config.block_size));
+  const double total = static_cast<double>(std::max<std::uint64_t>(1, graph.tasks()));
+  std::uint64_t done = 0, reported = 0;
+  const std::function<void(std::uint64_t)> on_tasks = [&](std::uint64_t n) {
+    done += n;
+    if (progress && done - reported >= 65536) {
+      reported = done;
+      progress(static_cast<double>(done) / total);
+    }
+  };
+  SimResult result;
+  for (const IterationGraph& g : graph.iterations) {
+    result.iterations.emplace_back();
+    IterationReplay(g, config, result.iterations.back(), on_tasks).run();
+  }
+  if (progress) progress(1.0);
+  return result;
+}
+
+}  // namespace hrad::sim

@@ -1,0 +1,71 @@
+// Discrete-event replay of a recorded refinement (TaskGraph) on `procs` simulated
+// processors under one scheduling policy and a CostModel.
+//
+// Each processor loops as core/refiner.cpp does: take up to block_size tasks, run them
+// (recorded durations × slowdown), spend block_ns, then submit the tasks the block
+// created in one operation; those become available when the submit releases the lock
+// (or the deque). Lock-like resources (the central lock, the stealing inbox, each
+// stealing deque) are granted first come, first served, one holder at a time; an
+// operation's effect on the queue is applied in grant order, which equals request
+// order, so the queues are always consistent with the simulated clock.
+//
+// Idle processors do not spin: a submit of k tasks wakes min(idle, ceil((size - B)/B))
+// of them (the submitter takes the next block itself), in the order they went idle; a
+// woken processor that finds nothing pays an empty take and waits again. This
+// understates the lock traffic of the real spinning refiners when many are idle.
+//
+// Order: stack and blocked take the newest tasks; fifo the oldest; priority is
+// approximated by fifo order (the trace has no oracle errors; coarse links, which carry
+// the largest errors, are the oldest) with its own costs; stealing pops the owner's
+// newest, and a thief takes the oldest min(block, ceil(n/2)) tasks of the first
+// non-empty victim in a round-robin scan from a per-processor pseudo-random start.
+// The initial tasks of each iteration are submitted from time 0 by the solver thread, in
+// chunks of load_chunk, while the processors start (for stealing, into the shared inbox;
+// the solver thread is not one of the processors and its time is not in the shares);
+// iterations are separated by a barrier.
+#pragma once
+
+#include "experiments/sim/cost_model.h"
+#include "experiments/sim/task_graph.h"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace hrad::sim {
+
+struct SimConfig {
+  Policy policy = Policy::kStack;
+  int procs = 1;
+  int block_size = 1;
+  CostModel costs;
+  int load_chunk = 4096;          ///< initial tasks per solver-thread submit (core/refiner.cpp)
+  bool keep_executions = false;  ///< fill IterationResult::executions (tests)
+};
+
+/// Time shares summed over processors, in ns; busy + overhead + lock_wait + idle =
+/// procs × time for every iteration.
+struct IterationResult {
+  int iteration = 0;
+  double time_ns = 0;       ///< refinement time of the iteration (barrier to barrier)
+  double busy_ns = 0;       ///< running tasks
+  double overhead_ns = 0;   ///< holding locks, queue operations, copies, block_ns
+  double lock_wait_ns = 0;  ///< waiting for a lock or deque held by another processor
+  double idle_ns = 0;       ///< nothing to do
+  std::uint64_t tasks = 0, takes = 0, empty_takes = 0, submits = 0, steals = 0;
+  std::vector<std::uint32_t> executions;  ///< per task, times run (keep_executions)
+};
+
+struct SimResult {
+  std::vector<IterationResult> iterations;
+  [[nodiscard]] double time_ns() const;
+  [[nodiscard]] IterationResult totals() const;  ///< sums (iteration = 0)
+};
+
+/// `progress(fraction)` is called now and then (may be empty). Throws
+/// std::invalid_argument for procs < 1 or block_size < 1, std::logic_error if the
+/// replay stalls (a bug).
+SimResult simulate(const TaskGraph& graph, const SimConfig& config,
+                   const std::function<void(double)>& progress = {});
+
+}  // namespace hrad::sim

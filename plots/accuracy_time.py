@@ -1,0 +1,122 @@
+#!/usr/bin/env python3
+"""Accuracy against cost (issue 7): probe error vs wall time and vs memory, per scene.
+
+Reads runs.csv of an experiment with an `accuracy` block (probe_err_mean: mean over the
+probes of the relative irradiance error against the path-traced reference). One row of
+panels per scene: left, error against wall time (wall_s, the solve without the probe
+gather); right, error against the memory of the hierarchy at the end of the run
+(bytes_total = elements + links). Log-log; one marker set per oracle (per oracle and
+row_sums when the sweep varies row_sums), each set's own Pareto front joined by a line; the Pareto front over all runs (no other run is both
+faster/smaller and more accurate) is circled in black and its points labelled with
+their settings. The fronts are also printed on stdout.
+Usage: accuracy_time.py RESULT_DIR [--out-dir DIR]
+"""
+import common
+
+ERROR = "probe_err_mean"
+MARKERS = ["o", "s", "^", "D", "v", "P"]
+COLOURS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"]
+
+
+def pareto(points, x, y):
+    """The non-dominated points (smaller x and smaller y are better), by increasing x."""
+    front, best = [], float("inf")
+    for p in sorted(points, key=lambda p: (p[x], p[y])):
+        if p[y] < best:
+            front.append(p)
+            best = p[y]
+    return front
+
+
+def short(v):
+    """1e-05 -> 1e-5, 0.0003 -> 3e-4, 4 -> 4."""
+    if isinstance(v, float):
+        m, _, e = f"{v:.0e}".partition("e")
+        return f"{m}e{int(e)}"
+    return str(v)
+
+
+def settings_label(p):
+    parts = []
+    for key, name in (("oracle", ""), ("row_sums", ""), ("eps", "eps "), ("min_area", "a "),
+                      ("visibility_rays", "v ")):
+        if key == "row_sums" and not VARY_ROW_SUMS:
+            continue
+        if p.get(key) is not None:
+            parts.append(name + short(p[key]))
+    return " ".join(parts)
+
+
+args = common.parse_args(__doc__)
+runs, _, manifest = common.load_result(args.result_dir)
+rows = [r for r in runs if r.get(ERROR) is not None]
+if not rows:
+    raise SystemExit(f"{args.result_dir}: runs.csv has no {ERROR} values (run the experiment "
+                     "with an 'accuracy' block)")
+
+# Mean over repetitions of each point.
+points = []
+for key, (err, _, _) in common.mean_by(rows, ("scene", "point"), ERROR).items():
+    same = [r for r in rows if (r["scene"], r["point"]) == key]
+    p = dict(same[0])
+    p[ERROR] = err
+    p["wall_s"] = sum(r["wall_s"] for r in same) / len(same)
+    p["mib"] = sum(r["bytes_total"] for r in same) / len(same) / 2**20
+    p["err_pct"] = max(err, 1e-9) * 100
+    points.append(p)
+
+scenes = common.unique(points, "scene")
+VARY_ROW_SUMS = len(common.unique(points, "row_sums")) > 1
+for p in points:
+    p["set"] = f"oracle {p['oracle']}" + (f", row_sums {p['row_sums']}" if VARY_ROW_SUMS else "")
+oracles = common.unique(points, "set")
+fig, axes = common.figure(len(scenes), 2, width=7.0, height=5.0)
+from matplotlib import ticker  # after common.figure chose the Agg backend
+for s, scene in enumerate(scenes):
+    mine = [p for p in points if p["scene"] == scene]
+    for c, (xkey, xlabel, what) in enumerate((("wall_s", "wall time of the solve (s)", "time"),
+                                             ("mib", "memory: elements + links (MiB)",
+                                              "memory"))):
+        ax = axes[2 * s + c]
+        for o, oracle in enumerate(oracles):
+            ps = [p for p in mine if p["set"] == oracle]
+            if not ps:
+                continue
+            colour = COLOURS[o % len(COLOURS)]
+            ax.scatter([p[xkey] for p in ps], [p["err_pct"] for p in ps], s=14, alpha=0.45,
+                       color=colour, marker=MARKERS[o % len(MARKERS)],
+                       label=f"{oracle} ({len(ps)} runs)")
+            own = pareto(ps, xkey, "err_pct")
+            ax.plot([p[xkey] for p in own], [p["err_pct"] for p in own], color=colour,
+                    drawstyle="steps-post", linewidth=1.2,
+                    label=f"Pareto front of {oracle}")
+        front = pareto(mine, xkey, "err_pct")
+        ax.scatter([p[xkey] for p in front], [p["err_pct"] for p in front], s=60,
+                   facecolors="none", edgecolors="black", linewidths=1.0,
+                   label="Pareto front, all runs")
+        for i, p in enumerate(front):
+            ax.annotate(settings_label(p), (p[xkey], p["err_pct"]), fontsize=5,
+                        xytext=(4, 3 + 5 * (i % 2)), textcoords="offset points")
+        print(f"{common.scene_label(scene)}: Pareto front, error vs {what}:")
+        for p in front:
+            print(f"  {settings_label(p):40s} error {p['err_pct']:7.2f}%  "
+                  f"max {p.get('probe_err_max', 0) * 100:7.2f}%  wall {p['wall_s']:8.3f} s  "
+                  f"{p['mib']:8.2f} MiB  links {p.get('links')}")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        plain = ticker.FuncFormatter(lambda v, _: f"{v:g}")
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_formatter(plain)
+        ax.yaxis.set_minor_formatter(ticker.FuncFormatter(
+            lambda v, _: f"{v:g}" if f"{v:.0e}"[0] in "25" else ""))
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("mean relative probe error (%)")
+        ax.set_title(f"{common.scene_label(scene)}: error vs {what}")
+        ax.grid(True, which="both", alpha=0.25)
+        ax.legend(fontsize=6, loc="upper right")
+
+common.save(fig, args.out_dir, "accuracy_time",
+            common.caption(manifest, runs,
+                           "Mean relative probe error (vs path-traced reference) against wall "
+                           "time and memory; circled: Pareto front (labels: oracle, row_sums "
+                           "when swept, eps, a = min_area, v = visibility rays)"))

@@ -1,0 +1,176 @@
+"""Shared helpers for the hrad plot scripts (plots/*.py).
+
+Every script reads only the files of one experiment result folder (runs.csv,
+iterations.csv, manifest.json; see README, "Experiments") and writes NAME.png and
+NAME.svg into that folder (or --out-dir). Captions give the machine and scenes from
+manifest.json and the command that regenerates the figure. Only the standard library
+and matplotlib (Debian: python3-matplotlib) are used; pandas is not needed.
+"""
+
+import argparse
+import csv
+import json
+import math
+import os
+import statistics
+import sys
+
+
+
+def _pyplot():
+    """matplotlib.pyplot, imported on first use (bad input fails before the slow import)."""
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only, no display
+    # Text in the SVG stays text (searchable, editable), not outlines.
+    matplotlib.rcParams["svg.fonttype"] = "none"
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def parse_args(description):
+    """RESULT_DIR [--out-dir DIR] [--simulated CSV]."""
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("result_dir", help="experiment result folder (runs.csv, manifest.json)")
+    p.add_argument("--out-dir", help="where to write the figures [default: RESULT_DIR]")
+    p.add_argument("--simulated", help="simulated speedup CSV (hrad simulate); used by speedup.py")
+    a = p.parse_args()
+    if a.out_dir is None:
+        a.out_dir = a.result_dir
+    return a
+
+
+def _value(text):
+    """CSV text -> int, float or str (empty -> None)."""
+    if text == "":
+        return None
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def load_csv(path):
+    """Rows of a CSV file as dicts with numbers converted."""
+    with open(path, newline="") as f:
+        return [{k: _value(v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def load_result(result_dir):
+    """(runs, iterations, manifest) of a result folder; missing files give [] / {}."""
+    def maybe(name, loader, empty):
+        path = os.path.join(result_dir, name)
+        return loader(path) if os.path.exists(path) else empty
+
+    runs = maybe("runs.csv", load_csv, [])
+    iterations = maybe("iterations.csv", load_csv, [])
+    manifest = maybe("manifest.json", lambda p: json.load(open(p)), {})
+    if not runs:
+        sys.exit(f"{result_dir}: no runs in runs.csv: nothing to plot")
+    return runs, iterations, manifest
+
+
+def scene_label(spec):
+    """'builtin:office?desks=2' -> 'office (desks=2)'; a file path -> its name."""
+    spec = str(spec)
+    if spec.startswith("builtin:"):
+        name, _, params = spec[len("builtin:"):].partition("?")
+        return f"{name} ({params.replace('&', ', ')})" if params else name
+    return os.path.basename(spec)
+
+
+def unique(rows, key):
+    """The distinct values of a column, in first-seen order."""
+    seen = []
+    for r in rows:
+        if r.get(key) not in seen:
+            seen.append(r.get(key))
+    return seen
+
+
+def mean_by(rows, keys, value):
+    """{tuple of keys: (mean, min, max)} of `value` over the rows (repetitions)."""
+    groups = {}
+    for r in rows:
+        v = r.get(value)
+        if v is None:
+            continue
+        groups.setdefault(tuple(r.get(k) for k in keys), []).append(float(v))
+    return {k: (statistics.fmean(v), min(v), max(v)) for k, v in groups.items()}
+
+
+def caption(manifest, rows, figure):
+    """Machine, scenes, revision and the command that regenerates the figure."""
+    m = manifest.get("machine", {})
+    exp = manifest.get("experiment", {})
+    hrad = manifest.get("hrad", {})
+    cpu = str(m.get("cpu", "?")).removeprefix("this machine: ")
+    machine = f"{m.get('hostname', '?')} ({cpu}, {m.get('pus_online', '?')} PUs)"
+    scenes = ", ".join(scene_label(s) for s in unique(rows, "scene"))
+    config = exp.get("config_file") or "experiments/configs/<config>.json"
+    if "experiments/configs/" in config:
+        config = config[config.index("experiments/configs/"):]
+    flags = " --quick" if exp.get("quick") else ""
+    for s in exp.get("sets", []):
+        flags += f" --set {s}"
+    reps = exp.get("repetitions", "?")
+    return (f"{figure}. Machine {machine}; hrad {hrad.get('git_revision', '?')}; "
+            f"{reps} repetition(s), mean (bars: min-max).\nScenes: {scenes}.\n"
+            f"Regenerate: hrad experiment {config}{flags}")
+
+
+def figure(nrows=1, ncols=1, width=6.4, height=4.4):
+    # At least 9 inches wide so the three caption lines fit under one panel.
+    fig, axes = _pyplot().subplots(nrows, ncols, figsize=(max(9.0, width * ncols), height * nrows),
+                             squeeze=False)
+    return fig, [ax for row in axes for ax in row]
+
+
+def errorbar(ax, xs, stats, **kw):
+    """Plots means with min-max bars; `stats` is a list of (mean, min, max)."""
+    ys = [s[0] for s in stats]
+    lo = [s[0] - s[1] for s in stats]
+    hi = [s[2] - s[0] for s in stats]
+    return ax.errorbar(xs, ys, yerr=[lo, hi], capsize=3, marker="o", **kw)
+
+
+def save(fig, out_dir, name, text):
+    """Adds the caption under the axes and writes NAME.png and NAME.svg."""
+    lines = text.count("\n") + 1
+    fig.text(0.01, 0.01, text, ha="left", va="bottom", fontsize=7, wrap=True)
+    fig.tight_layout(rect=(0, 0.035 * lines + 0.02, 1, 1))
+    os.makedirs(out_dir, exist_ok=True)
+    paths = [os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "svg")]
+    for p in paths:
+        fig.savefig(p, dpi=120)
+    _pyplot().close(fig)
+    for p in paths:
+        print(f"wrote {p}")
+    return paths
+
+
+def threads_axis(ax, threads, top=None):
+    """Thread counts on x; a log2 axis once they span 16x or more (1 ... 64)."""
+    ticks = sorted(t for t in threads if t is not None)
+    top = max(ticks + [top or 0])
+    ax.set_xlabel("refiner threads (processors)")
+    if top >= 16 * ticks[0]:
+        ax.set_xscale("log", base=2)
+        ticks = [2**k for k in range(0, top.bit_length()) if 2**k >= ticks[0]]
+    ax.set_xticks(ticks)
+    ax.set_xticklabels([str(t) for t in ticks])
+    ax.grid(True, alpha=0.3)
+
+
+def is_finite(x):
+    return x is not None and not (isinstance(x, float) and math.isnan(x))
+
+
+def variant(row, exclude):
+    """The row's swept values other than `exclude`, as 'scheduler=stack block_size=10'."""
+    parts = [p for p in str(row.get("swept") or "").split(" ")
+             if p and p.split("=", 1)[0] not in exclude]
+    return " ".join(parts)

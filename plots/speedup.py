@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""Figure 5 of Sillion & Hasenfratz (2000): speedup.
+
+(a) Speedup of the refinement over all iterations, T(1) / T(P) of refine_wall_s
+    (runs.csv), against refiner threads P, per scene (and per other swept value);
+(b) the same per iteration (iterations.csv) for one scene: the cabin if present
+    (the paper's Aircraft), else the last scene.
+T(1) is the mean one-thread time of the same scene and other swept values; a curve
+without a one-thread run is not drawn. With --simulated CSV (from `hrad simulate
+--out`: columns kind, scheduler, block_size, procs, iteration, speedup, source, and
+optionally scene; rows of kind "simulated" and iteration "all" are used) the simulated
+curves are drawn dashed and labelled "simulated".
+Usage: speedup.py RESULT_DIR [--out-dir DIR] [--simulated CSV]
+"""
+import common
+
+
+def speedups(rows, keys):
+    """{variant key: [(threads, speedup mean, min, max)]} against the 1-thread mean."""
+    out = {}
+    stats = common.mean_by(rows, keys + ("threads",), "refine_wall_s")
+    for k in {k[:-1] for k in stats}:
+        base = stats.get(k + (1,))
+        if not base or base[0] <= 0:
+            continue
+        pts = []
+        for t in sorted(kk[-1] for kk in stats if kk[:-1] == k):
+            m, lo, hi = stats[k + (t,)]
+            pts.append((t, base[0] / m, base[0] / hi, base[0] / lo))
+        out[k] = pts
+    return out
+
+
+def draw(ax, curves, label_of):
+    top = 1
+    for k in sorted(curves, key=str):
+        pts = curves[k]
+        common.errorbar(ax, [p[0] for p in pts], [(p[1], p[2], p[3]) for p in pts],
+                        label=label_of(k))
+        top = max(top, max(p[0] for p in pts))
+    return top
+
+
+def ideal(ax, top):
+    xs = list(range(1, int(top) + 1))
+    ax.plot(xs, xs, color="grey", linestyle=":", label="ideal")
+
+
+args = common.parse_args(__doc__)
+runs, iterations, manifest = common.load_result(args.result_dir)
+for r in runs + iterations:
+    r["variant"] = common.variant(r, ("threads",))
+fig, (a, b) = common.figure(1, 2)
+
+curves = speedups(runs, ("scene", "variant"))
+top = draw(a, curves, lambda k: common.scene_label(k[0]) + (f", {k[1]}" if k[1] else ""))
+if args.simulated:
+    # `hrad simulate --out` rows: kind simulated / measured, iteration N or "all"; the
+    # scene is named by a `scene` column when there is one, else by the trace (`source`).
+    sim = [r for r in common.load_csv(args.simulated)
+           if r.get("kind", "simulated") == "simulated" and r.get("iteration", "all") == "all"]
+    for r in sim:
+        r["scene"] = r.get("scene") or r.get("source") or "trace"
+    for key in sorted({(r["scene"], r.get("scheduler"), r.get("block_size")) for r in sim}, key=str):
+        pts = sorted((r["procs"], r["speedup"]) for r in sim
+                     if (r["scene"], r.get("scheduler"), r.get("block_size")) == key)
+        a.plot([p[0] for p in pts], [p[1] for p in pts], linestyle="--",
+               label=f"simulated: {common.scene_label(key[0])}, {key[1]}, block {key[2]}")
+        top = max(top, max(p[0] for p in pts))
+ideal(a, top)
+a.set_title("(a) speedup of the refinement, all iterations")
+
+scenes = common.unique(runs, "scene")
+focus = next((s for s in scenes if "cabin" in str(s)), scenes[-1])
+per_it = speedups([r for r in iterations if r["scene"] == focus], ("iteration", "variant"))
+ideal(b, draw(b, per_it, lambda k: f"iteration {k[0]}" + (f", {k[1]}" if k[1] else "")))
+b.set_title(f"(b) per iteration: {common.scene_label(focus)}")
+
+common.threads_axis(a, common.unique(runs, "threads"), int(top))
+common.threads_axis(b, common.unique(runs, "threads"))
+for ax in (a, b):
+    ax.set_ylabel("speedup T(1) / T(P) of refinement wall time")
+    ax.legend(fontsize=7)
+common.save(fig, args.out_dir, "speedup",
+            common.caption(manifest, runs, "Speedup (paper Fig. 5)"))

@@ -1,0 +1,249 @@
+// The experiment runner end to end on the Cornell box (milliseconds per run): every
+// run lands in runs.csv and iterations.csv, the link counts do not depend on the
+// scheduler or thread count, the manifest records how the folder was made, and an
+// interrupted experiment resumes without redoing finished runs. Also the CLI.
+#include "experiments/harness/csv.h"
+#include "experiments/harness/experiment_runner.h"
+#include "experiments/harness/result_files.h"
+#include "experiments/harness/run_rows.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace hrad::experiment {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+ExperimentConfig small_config() {
+  return parse_experiment_config(nlohmann::ordered_json::parse(R"({
+    "name": "runner-test", "scenes": ["builtin:cornell"],
+    "settings": {"eps": 0.01, "iterations": 2, "image_width": 8},
+    "sweep": {"scheduler": ["stack", "blocked"], "threads": [1, 2]},
+    "repetitions": 2})"),
+                                 "runner-test.json");
+}
+
+ManifestInputs inputs_for(const ExperimentConfig& c, std::size_t points) {
+  ManifestInputs in;
+  in.config = c;
+  in.config_file = "runner-test.json";
+  in.command_line = {"hrad", "experiment", "runner-test.json"};
+  in.version = "test";
+  in.git_revision = "abc";
+  in.points = static_cast<int>(points);
+  return in;
+}
+
+struct Folder {
+  fs::path path;
+  // The pid keeps concurrent test runs (other build folders) apart.
+  explicit Folder(const char* name)
+      : path(fs::temp_directory_path() / (name + std::string("-") + std::to_string(::getpid()))) {
+    fs::remove_all(path);
+  }
+  ~Folder() { fs::remove_all(path); }
+};
+
+std::vector<Row> data_rows(const fs::path& file) {
+  CsvText t = parse_csv(read(file));
+  EXPECT_FALSE(t.truncated);
+  EXPECT_FALSE(t.rows.empty());
+  return {t.rows.begin() + 1, t.rows.end()};
+}
+
+TEST(ExperimentRunner, RunsEveryPointAndWritesTheFiles) {
+  Folder out("hrad_runner_all");
+  const ExperimentConfig c = small_config();
+  const auto points = expand_sweep(c);
+  RunnerSettings s{out.path, /*quiet=*/true, stderr};
+  const ExperimentSummary sum = run_experiment(inputs_for(c, points.size()), points, s);
+  EXPECT_EQ(sum.runs, 8);
+  EXPECT_EQ(sum.ran, 8);
+  EXPECT_EQ(sum.skipped, 0);
+
+  const auto runs = data_rows(out.path / "runs.csv");
+  ASSERT_EQ(runs.size(), 8u);
+  const auto& rc = run_columns();
+  std::set<std::string> links;
+  std::set<std::pair<std::string, std::string>> ids;
+  for (const Row& r : runs) {
+    ASSERT_EQ(r.size(), rc.size());
+    links.insert(r[column_index(rc, "links")]);
+    ids.insert({r[column_index(rc, "point")], r[column_index(rc, "repetition")]});
+    EXPECT_GT(std::stod(r[column_index(rc, "refine_cpu_s")]), 0.0);
+    EXPECT_GT(std::stoull(r[column_index(rc, "tasks")]), 0u);
+    EXPECT_EQ(r[column_index(rc, "iterations_run")], "2");
+    EXPECT_EQ(r[column_index(rc, "eps")], "0.01");
+  }
+  EXPECT_EQ(links.size(), 1u) << "links depend on the scheduler or thread count";
+  EXPECT_EQ(ids.size(), 8u);
+  EXPECT_EQ(data_rows(out.path / "iterations.csv").size(), 16u);
+
+  const auto m = nlohmann::json::parse(read(out.path / "manifest.json"));
+  EXPECT_EQ(m["status"], "complete");
+  EXPECT_EQ(m["runs_done"], 8);
+  EXPECT_EQ(m["experiment"]["name"], "runner-test");
+  EXPECT_EQ(m["experiment"]["runs"], 8);
+  EXPECT_EQ(m["hrad"]["git_revision"], "abc");
+  EXPECT_FALSE(m["hrad"]["compiler"].get<std::string>().empty());
+  EXPECT_FALSE(m["hrad"]["cxx_flags"].get<std::string>().empty());
+  EXPECT_GE(m["topology"]["pus"].get<int>(), 1);
+  EXPECT_TRUE(m["environment"].is_object());
+  EXPECT_TRUE(m["machine"].contains("hostname"));
+  EXPECT_EQ(m["columns"]["runs"].get<std::vector<std::string>>(), run_columns());
+  EXPECT_FALSE(m["finished_at"].is_null());
+}
+
+TEST(ExperimentRunner, ResumesAnInterruptedRun) {
+  Folder out("hrad_runner_resume");
+  const ExperimentConfig c = small_config();
+  const auto points = expand_sweep(c);
+  RunnerSettings s{out.path, true, stderr};
+  run_experiment(inputs_for(c, points.size()), points, s);
+  const std::string full_runs = read(out.path / "runs.csv");
+
+  // Simulate a kill: keep 3 finished runs and half of the 4th row.
+  const CsvText t = parse_csv(full_runs);
+  std::string partial;
+  for (int i = 0; i < 4; ++i) partial += csv_line(t.rows[i]);
+  const std::string fourth = csv_line(t.rows[4]);
+  partial += fourth.substr(0, fourth.size() / 3);
+  std::ofstream(out.path / "runs.csv", std::ios::binary | std::ios::trunc) << partial;
+
+  const ExperimentSummary sum = run_experiment(inputs_for(c, points.size()), points, s);
+  EXPECT_EQ(sum.skipped, 3);
+  EXPECT_EQ(sum.ran, 5);
+  const auto runs = data_rows(out.path / "runs.csv");
+  ASSERT_EQ(runs.size(), 8u);
+  const auto& rc = run_columns();
+  std::set<std::pair<std::string, std::string>> ids;
+  for (const Row& r : runs) ids.insert({r[column_index(rc, "point")], r[column_index(rc, "repetition")]});
+  EXPECT_EQ(ids.size(), 8u);
+  // The first three rows are the original ones, untouched.
+  for (int i = 1; i < 4; ++i) EXPECT_EQ(runs[i - 1], t.rows[i]);
+  EXPECT_EQ(data_rows(out.path / "iterations.csv").size(), 16u);
+  const auto m = nlohmann::json::parse(read(out.path / "manifest.json"));
+  EXPECT_EQ(m["status"], "complete");
+  EXPECT_EQ(m["resumed_at"].size(), 1u);
+
+  // Everything done: resuming again runs nothing.
+  const ExperimentSummary again = run_experiment(inputs_for(c, points.size()), points, s);
+  EXPECT_EQ(again.ran, 0);
+  EXPECT_EQ(again.skipped, 8);
+}
+
+TEST(ExperimentRunner, RefusesAnotherConfigsFolder) {
+  Folder out("hrad_runner_other");
+  ExperimentConfig c = small_config();
+  c.sweep.pop_back();  // threads fixed at 1: 2 points
+  const auto points = expand_sweep(c);
+  RunnerSettings s{out.path, true, stderr};
+  run_experiment(inputs_for(c, points.size()), points, s);
+  const std::string before = read(out.path / "runs.csv");
+
+  const ExperimentConfig other = small_config();
+  const auto other_points = expand_sweep(other);
+  try {
+    run_experiment(inputs_for(other, other_points.size()), other_points, s);
+    ADD_FAILURE() << "resumed a folder of another configuration";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("different configuration"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read(out.path / "runs.csv"), before);
+
+  // A folder that is not a result folder is not written into.
+  Folder junk("hrad_runner_junk");
+  fs::create_directories(junk.path);
+  std::ofstream(junk.path / "notes.txt") << "mine";
+  RunnerSettings js{junk.path, true, stderr};
+  EXPECT_THROW(run_experiment(inputs_for(c, points.size()), points, js), std::runtime_error);
+  EXPECT_FALSE(fs::exists(junk.path / "runs.csv"));
+}
+
+TEST(ExperimentRunner, ProgressLinesNamePointsAndTimeLeft) {
+  Folder out("hrad_runner_progress");
+  ExperimentConfig c = small_config();
+  c.repetitions = 1;
+  c.sweep.pop_back();
+  const auto points = expand_sweep(c);
+  std::FILE* log = std::tmpfile();
+  RunnerSettings s{out.path, false, log};
+  run_experiment(inputs_for(c, points.size()), points, s);
+  std::rewind(log);
+  std::string text(4096, '\0');
+  text.resize(std::fread(text.data(), 1, text.size(), log));
+  std::fclose(log);
+  EXPECT_NE(text.find("[1/2] builtin:cornell scheduler=stack rep 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("[2/2]"), std::string::npos) << text;
+  EXPECT_NE(text.find("elapsed, ~0:00 left"), std::string::npos) << text;  // last run: none left
+}
+
+// The command line: bad input leaves nothing behind and says what is wrong.
+int run_hrad(const std::string& args, std::string& output) {
+  const std::string cmd = std::string(HRAD_BINARY) + " " + args + " 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  char buf[4096];
+  output.clear();
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) output.append(buf, n);
+  const int rc = ::pclose(p);
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+TEST(ExperimentCli, BadConfigIsAnErrorAndCreatesNothing) {
+  Folder d("hrad_cli_experiment");
+  fs::create_directories(d.path);
+  std::ofstream(d.path / "bad.json") << R"({"name": "x", "scenes": ["builtin:cornell"], "sweep": {"thread": [1]}})";
+  std::string out;
+  EXPECT_EQ(run_hrad("experiment " + (d.path / "bad.json").string() + " --out " +
+                         (d.path / "res").string(), out), 1);
+  EXPECT_NE(out.find("unknown option key 'thread'"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(d.path / "res"));
+}
+
+TEST(ExperimentCli, QuickRunWithSetAndDryRun) {
+  Folder d("hrad_cli_experiment_run");
+  fs::create_directories(d.path);
+  std::ofstream(d.path / "c.json") << R"({"name": "c", "scenes": ["builtin:cornell"],
+    "settings": {"eps": 0.05, "iterations": 1},
+    "sweep": {"threads": [1, 2, 3]}, "repetitions": 3,
+    "quick": {"sweep": {"threads": [1, 2]}, "repetitions": 1}})";
+  std::string out;
+  ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() + " --quick --dry-run", out), 0) << out;
+  EXPECT_NE(out.find("2 points x 1 repetitions = 2 runs"), std::string::npos) << out;
+  ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
+                         " --quick --set sweep.threads=1 --set repetitions=2 --no-plot --out " +
+                         (d.path / "res").string(), out), 0) << out;
+  const auto runs = data_rows(d.path / "res" / "runs.csv");
+  EXPECT_EQ(runs.size(), 2u);
+  const auto m = nlohmann::json::parse(read(d.path / "res" / "manifest.json"));
+  EXPECT_EQ(m["experiment"]["quick"], true);
+  EXPECT_EQ(m["experiment"]["sets"].size(), 2u);
+  EXPECT_EQ(m["command_line"][1], "experiment");
+  // Same command again: the folder is complete, nothing reruns.
+  ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
+                         " --quick --set sweep.threads=1 --set repetitions=2 --no-plot --out " +
+                         (d.path / "res").string(), out), 0) << out;
+  EXPECT_NE(out.find("(0 run now, 2 already done)"), std::string::npos) << out;
+  // --resume of a folder made with other --set values is refused.
+  EXPECT_EQ(run_hrad("experiment " + (d.path / "c.json").string() + " --quick --no-plot --resume " +
+                         (d.path / "res").string(), out), 1);
+  EXPECT_NE(out.find("different configuration"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace hrad::experiment

@@ -1,0 +1,132 @@
+// Sweep expansion (order, counts, options of each point) and the flat rows of
+// runs.csv / iterations.csv made from RunStats.
+#include "core/options_io.h"
+#include "experiments/harness/run_rows.h"
+#include "experiments/harness/sweep.h"
+
+#include <gtest/gtest.h>
+
+namespace hrad::experiment {
+namespace {
+
+ExperimentConfig config() {
+  return parse_experiment_config(nlohmann::ordered_json::parse(R"({
+    "name": "s", "scenes": ["builtin:cornell", "builtin:furnace"],
+    "settings": {"eps": 0.5},
+    "sweep": {"scheduler": ["stack", "fifo", "blocked"], "threads": [1, 2]}})"),
+                                 "cfg");
+}
+
+TEST(ExperimentSweep, CartesianProductInOrder) {
+  const std::vector<SweepPoint> p = expand_sweep(config());
+  ASSERT_EQ(p.size(), 2u * 3u * 2u);
+  for (std::size_t i = 0; i < p.size(); ++i) EXPECT_EQ(p[i].index, static_cast<int>(i));
+  // Scenes slowest, then axes in file order, the last axis fastest.
+  EXPECT_EQ(p[0].scene, "builtin:cornell");
+  EXPECT_EQ(p[6].scene, "builtin:furnace");
+  EXPECT_EQ(describe_point(p[0]), "scheduler=stack threads=1");
+  EXPECT_EQ(describe_point(p[1]), "scheduler=stack threads=2");
+  EXPECT_EQ(describe_point(p[2]), "scheduler=fifo threads=1");
+  EXPECT_EQ(describe_point(p[11]), "scheduler=blocked threads=2");
+  EXPECT_EQ(p[11].options.scheduler, "blocked");
+  EXPECT_EQ(p[11].options.threads, 2);
+  for (const SweepPoint& q : p) EXPECT_EQ(q.options.eps, 0.5);  // settings everywhere
+  // Every (scheduler, threads) pair appears exactly once per scene.
+  std::set<std::pair<std::string, int>> seen;
+  for (int i = 0; i < 6; ++i) seen.insert({p[i].options.scheduler, p[i].options.threads});
+  EXPECT_EQ(seen.size(), 6u);
+}
+
+TEST(ExperimentSweep, NoSweepIsOnePointPerScene) {
+  ExperimentConfig c = config();
+  c.sweep.clear();
+  const std::vector<SweepPoint> p = expand_sweep(c);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(describe_point(p[0]), "");
+}
+
+TEST(ExperimentSweep, ThreeAxesCount) {
+  ExperimentConfig c = config();
+  c.sweep.push_back({"block_size", {1, 10, 100, 1000}});
+  EXPECT_EQ(expand_sweep(c).size(), 2u * 3u * 2u * 4u);
+}
+
+RunStats two_iterations() {
+  RunStats s;
+  for (int i = 1; i <= 2; ++i) {
+    IterationStats it;
+    it.iteration = i;
+    it.refine_wall_s = 1.0 * i;
+    it.refine_cpu_s = 2.0 * i;
+    it.propagate_wall_s = 0.25;
+    it.links_created = 100;
+    it.links = 100u * i;
+    it.elements = 10u * i;
+    it.bytes = {{"elements", 1000u * i}, {"links", 3000u * i}};
+    it.tasks = 50;
+    it.scheduler_ops = 20;
+    it.lock_wait_s = {{"scheduler", 0.5}, {"element", 0.25}, {"link", 0.125}};
+    it.idle_s = 0.75;
+    it.peak_parallelism = i;
+    it.steals = 3;
+    it.rays_cast = 7;
+    it.gather_sweeps = 4;
+    s.iterations.push_back(it);
+  }
+  s.totals.wall_s = 4;
+  s.totals.refine_wall_s = 3;
+  s.totals.refine_cpu_s = 6;
+  s.totals.links = 200;
+  s.totals.elements = 20;
+  s.totals.rays_cast = 14;
+  return s;
+}
+
+TEST(ExperimentRows, ColumnsAndValues) {
+  const std::vector<SweepPoint> p = expand_sweep(config());
+  const RunRows r = make_run_rows("s", p[3], 1, two_iterations(), "2026-01-01T00:00:00+0000");
+  const auto& rc = run_columns();
+  ASSERT_EQ(r.run.size(), rc.size());
+  const auto at = [&](const char* c) { return r.run[column_index(rc, c)]; };
+  EXPECT_EQ(at("config"), "s");
+  EXPECT_EQ(at("point"), "3");
+  EXPECT_EQ(at("repetition"), "1");
+  EXPECT_EQ(at("scene"), "builtin:cornell");
+  EXPECT_EQ(at("swept"), "scheduler=fifo threads=2");
+  EXPECT_EQ(at("scheduler"), "fifo");  // every option is a column
+  EXPECT_EQ(at("threads"), "2");
+  EXPECT_EQ(at("eps"), option_value_string(p[3].options, "eps"));
+  EXPECT_EQ(at("refine_cpu_s"), "6");
+  EXPECT_EQ(at("propagate_wall_s"), "0.5");       // summed
+  EXPECT_EQ(at("tasks"), "100");                  // summed
+  EXPECT_EQ(at("lock_wait_scheduler_s"), "1");    // summed
+  EXPECT_EQ(at("lock_wait_total_s"), "1.75");     // all classes, all iterations
+  EXPECT_EQ(at("bytes_total"), "8000");           // at the end
+  EXPECT_EQ(at("peak_parallelism"), "2");         // max
+  EXPECT_EQ(at("steals"), "6");
+  EXPECT_EQ(at("iterations_run"), "2");
+  ASSERT_EQ(r.iterations.size(), 2u);
+  const auto& ic = iteration_columns();
+  for (const Row& row : r.iterations) ASSERT_EQ(row.size(), ic.size());
+  EXPECT_EQ(r.iterations[1][column_index(ic, "iteration")], "2");
+  EXPECT_EQ(r.iterations[1][column_index(ic, "links")], "200");
+  EXPECT_EQ(r.iterations[1][column_index(ic, "refine_cpu_s")], "4");
+  EXPECT_EQ(r.iterations[0][column_index(ic, "bytes_links")], "3000");
+  EXPECT_EQ(r.iterations[0][column_index(ic, "lock_wait_total_s")], "0.875");
+}
+
+TEST(ExperimentRows, HeaderStartsWithIdentityThenOptions) {
+  const auto& rc = run_columns();
+  const std::vector<std::string> head(rc.begin(), rc.begin() + 5);
+  EXPECT_EQ(head, (std::vector<std::string>{"config", "point", "repetition", "scene", "swept"}));
+  for (std::size_t i = 0; i < option_table().size(); ++i)
+    EXPECT_EQ(rc[5 + i], option_table()[i].name);
+  // No duplicate column names in either file.
+  for (const auto* cols : {&run_columns(), &iteration_columns()}) {
+    std::set<std::string> s(cols->begin(), cols->end());
+    EXPECT_EQ(s.size(), cols->size());
+  }
+}
+
+}  // namespace
+}  // namespace hrad::experiment
