@@ -71,14 +71,7 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
 
   const fs::path out(a.out);
   bool created = false;
-  try {
-    if (fs::exists(out) && !fs::is_directory(out))
-      throw std::runtime_error(fmt::format("{} exists and is not a directory", out.string()));
-    created = fs::create_directories(out);
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "hrad: cannot create the output folder: {}\n", e.what());
-    return 1;
-  }
+  if (!make_output_folder(out, created)) return 1;
 
   try {
     ProgressReporter progress(a.quiet);

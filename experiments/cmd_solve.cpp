@@ -23,12 +23,12 @@
 #include "core/stats_json.h"
 #include "core/topology.h"
 #include "experiments/commands.h"
+#include "experiments/harness/manifest.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
-#include <ctime>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -99,21 +99,13 @@ SolverOptions resolve_options(const SolveArgs& a) {
   return o;
 }
 
-std::string local_time(const char* format) {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  ::localtime_r(&now, &tm);
-  char buf[64];
-  return std::strftime(buf, sizeof buf, format, &tm) > 0 ? buf : "";
-}
-
 // results/<scene>-<YYYYmmdd-HHMMSS>/, made unique with -2, -3 ... when taken.
 fs::path default_out_dir(const Scene& scene) {
   std::string name = scene.name.empty() ? "scene" : scene.name;
   for (char& c : name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.'))
       c = '_';
-  const fs::path base = fs::path("results") / (name + "-" + local_time("%Y%m%d-%H%M%S"));
+  const fs::path base = fs::path("results") / (name + "-" + experiment::now_stamp());
   fs::path dir = base;
   for (int i = 2; fs::exists(dir); ++i) dir = base.string() + "-" + std::to_string(i);
   return dir;
@@ -172,14 +164,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   // 4: the output folder.
   const fs::path out = a.out.empty() ? default_out_dir(scene) : fs::path(a.out);
   bool created = false;
-  try {
-    if (fs::exists(out) && !fs::is_directory(out))
-      throw std::runtime_error(fmt::format("{} exists and is not a directory", out.string()));
-    created = fs::create_directories(out);
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "hrad: cannot create the output folder: {}\n", e.what());
-    return 1;
-  }
+  if (!make_output_folder(out, created)) return 1;
 
   // 5-6: run and write. stats.json comes last so that it lists what was written.
   std::vector<std::string> written;  // paths as given to the user
@@ -187,7 +172,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   std::optional<Failure> failure;
   RunStats stats;
   try {
-    const std::string started = local_time("%Y-%m-%dT%H:%M:%S%z");
+    const std::string started = experiment::now_iso8601();
     stats = solver->run();
     progress->finish();
     const RenderMesh mesh = solver->render_mesh();

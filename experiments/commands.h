@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,11 @@ struct CommandContext {
 std::string version_string();
 /// The git revision this binary was built from ("unknown" outside a git checkout).
 std::string git_revision();
+
+/// Creates the output folder `out` (and its parents); `created` says whether it did not
+/// exist before. On failure prints "hrad: cannot create the output folder: ..." and
+/// returns false.
+bool make_output_folder(const std::filesystem::path& out, bool& created);
 
 void register_solve(CLI::App& app, CommandContext& ctx);
 void register_scenes(CLI::App& app, CommandContext& ctx);

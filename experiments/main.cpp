@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 #ifndef HRAD_GIT_REVISION
 #define HRAD_GIT_REVISION "unknown"
 #endif
@@ -12,6 +14,19 @@ namespace hrad::cli {
 std::string git_revision() { return HRAD_GIT_REVISION; }
 
 std::string version_string() { return fmt::format("hrad {} (git {})", kVersion, git_revision()); }
+
+bool make_output_folder(const std::filesystem::path& out, bool& created) {
+  created = false;
+  try {
+    if (std::filesystem::exists(out) && !std::filesystem::is_directory(out))
+      throw std::runtime_error(fmt::format("{} exists and is not a directory", out.string()));
+    created = std::filesystem::create_directories(out);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "hrad: cannot create the output folder: {}\n", e.what());
+    return false;
+  }
+  return true;
+}
 
 }  // namespace hrad::cli
 

@@ -9,7 +9,10 @@ T(1) is the mean one-thread time of the same scene and other swept values; a cur
 without a one-thread run is not drawn. With --simulated CSV (from `hrad simulate
 --out`: columns kind, scheduler, block_size, procs, iteration, speedup, source, and
 optionally scene; rows of kind "simulated" and iteration "all" are used) the simulated
-curves are drawn dashed and labelled "simulated".
+curves are drawn dashed and labelled "simulated"; when the CSV also holds measured
+rows (kind "measured", from `hrad simulate --measured STATS.json`), each simulated
+curve's label gives its error against them at 1 and 2 processors and says whether it
+is within 10% (the simulator's validation target).
 Usage: speedup.py RESULT_DIR [--out-dir DIR] [--simulated CSV]
 """
 import common
@@ -46,6 +49,24 @@ def ideal(ax, top):
     ax.plot(xs, xs, color="grey", linestyle=":", label="ideal")
 
 
+def validation(sim, measured, key):
+    """' (vs measured: P=1 +7%, P=2 -24%; not within 10%)' for one simulated curve."""
+    parts, worst = [], 0.0
+    for p in (1, 2):
+        same = lambda r: (float(r["procs"]) == p and r.get("scheduler") == key[1]
+                          and str(r.get("block_size")) == str(key[2]))
+        m = sorted(float(r["time_s"]) for r in measured if same(r))
+        s = [float(r["time_s"]) for r in sim if same(r) and (r["scene"]) == key[0]]
+        if m and s and m[len(m) // 2] > 0:
+            err = (s[0] - m[len(m) // 2]) / m[len(m) // 2]
+            worst = max(worst, abs(err))
+            parts.append(f"P={p} {100 * err:+.0f}%")
+    if not parts:
+        return ""
+    verdict = "within 10%" if worst <= 0.10 else "NOT within 10%"
+    return f"\n(vs measured: {', '.join(parts)}; {verdict})"
+
+
 args = common.parse_args(__doc__)
 runs, iterations, manifest = common.load_result(args.result_dir)
 for r in runs + iterations:
@@ -57,17 +78,23 @@ top = draw(a, curves, lambda k: common.scene_label(k[0]) + (f", {k[1]}" if k[1] 
 if args.simulated:
     # `hrad simulate --out` rows: kind simulated / measured, iteration N or "all"; the
     # scene is named by a `scene` column when there is one, else by the trace (`source`).
-    sim = [r for r in common.load_csv(args.simulated)
+    sim_rows = common.load_csv(args.simulated)
+    sim = [r for r in sim_rows
            if r.get("kind", "simulated") == "simulated" and r.get("iteration", "all") == "all"]
+    measured = [r for r in sim_rows
+                if r.get("kind") == "measured" and r.get("iteration", "all") == "all"]
     for r in sim:
         r["scene"] = r.get("scene") or r.get("source") or "trace"
     for key in sorted({(r["scene"], r.get("scheduler"), r.get("block_size")) for r in sim}, key=str):
         pts = sorted((r["procs"], r["speedup"]) for r in sim
                      if (r["scene"], r.get("scheduler"), r.get("block_size")) == key)
         a.plot([p[0] for p in pts], [p[1] for p in pts], linestyle="--",
-               label=f"simulated: {common.scene_label(key[0])}, {key[1]}, block {key[2]}")
+               label=f"simulated: {common.scene_label(key[0])}, {key[1]}, block {key[2]}"
+                     + validation(sim, measured, key))
         top = max(top, max(p[0] for p in pts))
 ideal(a, top)
+if top > 8:  # simulated curves far beyond the measured threads: log-log
+    a.set_yscale("log", base=2)
 a.set_title("(a) speedup of the refinement, all iterations")
 
 scenes = common.unique(runs, "scene")

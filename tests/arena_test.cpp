@@ -6,6 +6,7 @@
 #include "core/hierarchy.h"
 #include "core/node_arena.h"
 #include "core/topology.h"
+#include "tests/env_guard.h"
 
 #include <gtest/gtest.h>
 
@@ -118,23 +119,6 @@ TEST(NodeArena, HierarchyElementsComeFromTheSubdividingWorkersArena) {
   EXPECT_EQ(sum(b), h.element_count() * sizeof(Element));
   EXPECT_EQ(b[1], kids.size() * sizeof(Element));
 }
-
-class EnvGuard {
- public:
-  EnvGuard(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    ::setenv(name, value, 1);
-  }
-  ~EnvGuard() {
-    if (old_) ::setenv(name_, old_->c_str(), 1); else ::unsetenv(name_);
-  }
-  EnvGuard(const EnvGuard&) = delete;
-  EnvGuard& operator=(const EnvGuard&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
 
 TEST(NodeArena, BindingIsPlannedOnSyntheticAppliedHere) {
   {

@@ -8,6 +8,7 @@
 #include "core/stats_json.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
+#include "tests/env_guard.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -25,23 +26,6 @@
 
 namespace hrad {
 namespace {
-
-class EnvGuard {
- public:
-  EnvGuard(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    ::setenv(name, value, 1);
-  }
-  ~EnvGuard() {
-    if (old_) ::setenv(name_, old_->c_str(), 1); else ::unsetenv(name_);
-  }
-  EnvGuard(const EnvGuard&) = delete;
-  EnvGuard& operator=(const EnvGuard&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
 
 Task task_on(Element& receiver, std::uint64_t id) {
   Task t;

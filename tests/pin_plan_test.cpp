@@ -2,6 +2,7 @@
 // synthetic topologies: each policy puts refiners where it promises.
 #include "core/pin_plan.h"
 #include "core/topology.h"
+#include "tests/env_guard.h"
 
 #include <gtest/gtest.h>
 
@@ -48,23 +49,6 @@ std::vector<int> single_pus(const PinPlan& p) {
   }
   return pus;
 }
-
-class EnvGuard {
- public:
-  EnvGuard(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    ::setenv(name, value, 1);
-  }
-  ~EnvGuard() {
-    if (old_) ::setenv(name_, old_->c_str(), 1); else ::unsetenv(name_);
-  }
-  EnvGuard(const EnvGuard&) = delete;
-  EnvGuard& operator=(const EnvGuard&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
 
 TEST(PinPlan, TwoNodesTwoCoresEachPolicy) {
   const TopologyInfo t = by_hand({2, 2});

@@ -1,4 +1,5 @@
 #include "core/topology.h"
+#include "tests/env_guard.h"
 
 #include <gtest/gtest.h>
 
@@ -8,28 +9,6 @@
 
 namespace hrad {
 namespace {
-
-// Sets an environment variable for the lifetime of the guard, then unsets it (or
-// restores its earlier value), so a synthetic topology never leaks into other tests.
-class EnvGuard {
- public:
-  EnvGuard(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    ::setenv(name, value, 1);
-  }
-  ~EnvGuard() {
-    if (old_)
-      ::setenv(name_, old_->c_str(), 1);
-    else
-      ::unsetenv(name_);
-  }
-  EnvGuard(const EnvGuard&) = delete;
-  EnvGuard& operator=(const EnvGuard&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
 
 bool user_set_topology() {
   return std::getenv("HWLOC_SYNTHETIC") != nullptr || std::getenv("HWLOC_XMLFILE") != nullptr;
