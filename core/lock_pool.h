@@ -28,6 +28,11 @@ class LockPool {
     return timed_lock(locks_[index(address)].m, w.seconds, &w.count);
   }
 
+  /// The mutex for `address` if it is free now; otherwise a lock that owns nothing.
+  std::unique_lock<std::mutex> try_lock(const void* address) {
+    return std::unique_lock(locks_[index(address)].m, std::try_to_lock);
+  }
+
   [[nodiscard]] std::size_t size() const { return locks_.size(); }
   [[nodiscard]] double wait_seconds() const {
     double s = 0;

@@ -36,20 +36,29 @@ struct alignas(64) Refiner::Worker {
 // Stores a block's accepted links at their receivers, one lock acquisition per
 // receiver: refiners working depth-first often accept several links of the same
 // receiver in one block, and taking the hashed lock once per link made the link
-// pool the most contended lock.
-void Refiner::store_links(Worker& w) {
+// pool the most contended lock. Refiners still meet on the same receivers (siblings
+// of one parent go to both), so with `wait` false a receiver whose lock is busy keeps
+// its links in the buffer for the next call instead of waiting: nothing reads a
+// receiver's links during a refinement stage. The refiner's last call waits.
+void Refiner::store_links(Worker& w, bool wait) {
   auto& a = w.accepted;
   std::stable_sort(a.begin(), a.end(),
                    [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < a.size();) {
     Element* r = a[i].first;
     std::size_t j = i;
     while (j < a.size() && a[j].first == r) ++j;
-    auto guard = link_locks_.lock(r, w.id);
-    for (std::size_t k = i; k < j; ++k) r->links.push_back(a[k].second);
+    auto guard = wait ? link_locks_.lock(r, w.id) : link_locks_.try_lock(r);
+    if (guard.owns_lock()) {
+      for (std::size_t k = i; k < j; ++k) r->links.push_back(a[k].second);
+    } else {
+      w.c.links_deferred += j - i;
+      for (std::size_t k = i; k < j; ++k) a[kept++] = a[k];
+    }
     i = j;
   }
-  a.clear();
+  a.resize(kept);
 }
 
 Refiner::Refiner(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
@@ -263,7 +272,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
       } else {
         for (std::size_t i = 0; i < n; ++i) process(block[i], w, out);
       }
-      store_links(w);
+      store_links(w, false);
       ++w.c.takes;
       if (!out.empty()) {
         pending.fetch_add(static_cast<std::int64_t>(out.size()), std::memory_order_acq_rel);
@@ -277,6 +286,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
           static_cast<std::int64_t>(n))
         pending.notify_one();  // the last task retired: wake the solver thread
     }
+    store_links(w, true);  // whatever a busy lock made it defer
     if (idle) w.c.idle_s += seconds_since(idle_since);
   }
   solver.join();
@@ -286,6 +296,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     total.tasks += w.c.tasks;
     total.links_created += w.c.links_created;
     total.links_kept += w.c.links_kept;
+    total.links_deferred += w.c.links_deferred;
     total.culled += w.c.culled;
     total.rays_cast += w.c.rays_cast;
     total.rays_skipped += w.c.rays_skipped;

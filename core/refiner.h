@@ -40,6 +40,7 @@ struct RefineCounters {
   std::uint64_t tasks = 0;
   std::uint64_t links_created = 0;  ///< accepted links that were not links before
   std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
+  std::uint64_t links_deferred = 0; ///< link stores put off because the receiver's lock was busy
   std::uint64_t culled = 0;         ///< pairs that cannot exchange light
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;   ///< rays not cast thanks to culling
@@ -87,7 +88,7 @@ class Refiner {
  private:
   struct Worker;
   void process(const Task& task, Worker& w, std::vector<Task>& out);
-  void store_links(Worker& w);
+  void store_links(Worker& w, bool wait);
   [[nodiscard]] bool splittable(const Element& e) const;
 
   Hierarchy& hierarchy_;
