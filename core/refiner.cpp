@@ -53,7 +53,6 @@ void Refiner::store_links(Worker& w, bool wait) {
     if (guard.owns_lock()) {
       for (std::size_t k = i; k < j; ++k) r->links.push_back(a[k].second);
     } else {
-      w.c.links_deferred += j - i;
       for (std::size_t k = i; k < j; ++k) a[kept++] = a[k];
     }
     i = j;
@@ -195,6 +194,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
   std::atomic<int> busy{0};
   std::atomic<int> peak{0};
   std::vector<Worker> workers(static_cast<std::size_t>(threads));
+  double load_s = 0;  // written by the solver thread, read after it joined
 
   // The solver thread (paper §3.2): loads the initial tasks in chunks while the
   // refiners already work on the first ones, then sleeps until the last in-flight
@@ -206,7 +206,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     const std::span<const Task> all(initial);
     for (std::size_t i = 0; i < all.size(); i += kLoadChunk)
       scheduler.submit(0, all.subspan(i, std::min(kLoadChunk, all.size() - i)));
-    load_s_ = seconds_since(t0);
+    load_s = seconds_since(t0);
     for (std::int64_t v = pending.load(std::memory_order_acquire); v != 0;
          v = pending.load(std::memory_order_acquire))
       pending.wait(v, std::memory_order_acquire);
@@ -296,7 +296,6 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     total.tasks += w.c.tasks;
     total.links_created += w.c.links_created;
     total.links_kept += w.c.links_kept;
-    total.links_deferred += w.c.links_deferred;
     total.culled += w.c.culled;
     total.rays_cast += w.c.rays_cast;
     total.rays_skipped += w.c.rays_skipped;
@@ -308,7 +307,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     total.trace.insert(total.trace.end(), w.trace.begin(), w.trace.end());
   }
   total.peak_parallelism = peak.load();
-  total.load_s = load_s_;
+  total.load_s = load_s;
   return total;
 }
 

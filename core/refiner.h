@@ -40,7 +40,6 @@ struct RefineCounters {
   std::uint64_t tasks = 0;
   std::uint64_t links_created = 0;  ///< accepted links that were not links before
   std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
-  std::uint64_t links_deferred = 0; ///< link stores put off because the receiver's lock was busy
   std::uint64_t culled = 0;         ///< pairs that cannot exchange light
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;   ///< rays not cast thanks to culling
@@ -97,7 +96,6 @@ class Refiner {
   RefineLimits limits_;
   LockPool& element_locks_;
   LockPool& link_locks_;
-  double load_s_ = 0;  ///< written by the solver thread, read after it joined
   const Topology* topology_ = nullptr;
   const PinPlan* plan_ = nullptr;
 };

@@ -1,5 +1,7 @@
 // End-to-end tests of the hrad binary (HRAD_BINARY): help, errors, and real solves
 // into a temporary folder.
+#include "tests/read_text.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
@@ -21,12 +23,7 @@ struct Result {
   std::string out, err;
 };
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using hrad::test::read_text;
 
 bool contains(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;

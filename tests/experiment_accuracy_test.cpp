@@ -6,6 +6,7 @@
 #include "experiments/harness/csv.h"
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/run_rows.h"
+#include "tests/read_text.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -33,12 +34,7 @@ std::string error_of(const std::string& text) {
   return "";
 }
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_text;
 
 struct Folder {
   fs::path path;
@@ -167,7 +163,7 @@ ManifestInputs inputs_for(const ExperimentConfig& c, std::size_t points) {
 }
 
 std::vector<Row> data_rows(const fs::path& file) {
-  const CsvText t = parse_csv(read(file));
+  const CsvText t = parse_csv(read_text(file));
   return {t.rows.begin() + 1, t.rows.end()};
 }
 
@@ -204,9 +200,9 @@ TEST(ExperimentAccuracy, RunsGetProbeErrorsAndTheReferenceIsCached) {
   // Interrupt after the first run and double the cached reference: the resumed run
   // must read the cache (its error becomes ~50%) instead of tracing again.
   {
-    const CsvText all = parse_csv(read(out.path / "runs.csv"));
+    const CsvText all = parse_csv(read_text(out.path / "runs.csv"));
     std::ofstream(out.path / "runs.csv") << csv_line(all.rows[0]) << csv_line(all.rows[1]);
-    const CsvText it = parse_csv(read(out.path / "iterations.csv"));
+    const CsvText it = parse_csv(read_text(out.path / "iterations.csv"));
     std::ofstream its(out.path / "iterations.csv");
     for (const Row& r : it.rows)
       if (&r == &it.rows[0] || r[column_index(iteration_columns(), "point")] == "0")

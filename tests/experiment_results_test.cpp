@@ -3,6 +3,7 @@
 // is cleaned up so that exactly the finished runs remain.
 #include "experiments/harness/csv.h"
 #include "experiments/harness/result_files.h"
+#include "tests/read_text.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,12 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_text;
 
 struct TempDir {
   fs::path path;
@@ -85,10 +81,10 @@ TEST(ExperimentResultFiles, NewFolderGetsHeadersAndAppends) {
     f.append({0, 1}, rows_for(0, 1, 2));
     EXPECT_EQ(f.done().size(), 2u);
     // Flushed at once: a reader sees both rows while the files are still open.
-    const CsvText runs = parse_csv(read(d.path / "runs.csv"));
+    const CsvText runs = parse_csv(read_text(d.path / "runs.csv"));
     ASSERT_EQ(runs.rows.size(), 3u);
     EXPECT_EQ(runs.rows[0], run_columns());
-    EXPECT_EQ(parse_csv(read(d.path / "iterations.csv")).rows.size(), 5u);
+    EXPECT_EQ(parse_csv(read_text(d.path / "iterations.csv")).rows.size(), 5u);
   }
   ResultFiles again(d.path);
   EXPECT_EQ(again.done().size(), 2u);
@@ -114,15 +110,15 @@ TEST(ExperimentResultFiles, PartialFilesAreCleanedOnResume) {
   EXPECT_TRUE(f.done().count({0, 0}));
   EXPECT_TRUE(f.done().count({1, 0}));
   EXPECT_FALSE(f.done().count({2, 0}));
-  EXPECT_EQ(parse_csv(read(d.path / "runs.csv")).rows.size(), 3u);
-  EXPECT_FALSE(parse_csv(read(d.path / "runs.csv")).truncated);
-  EXPECT_EQ(parse_csv(read(d.path / "iterations.csv")).rows.size(), 1u + 4u);  // orphans gone
+  EXPECT_EQ(parse_csv(read_text(d.path / "runs.csv")).rows.size(), 3u);
+  EXPECT_FALSE(parse_csv(read_text(d.path / "runs.csv")).truncated);
+  EXPECT_EQ(parse_csv(read_text(d.path / "iterations.csv")).rows.size(), 1u + 4u);  // orphans gone
   // Redo (2,0): it appears once in each file.
   f.append({2, 0}, rows_for(2, 0, 2));
-  const CsvText after = parse_csv(read(d.path / "runs.csv"));
+  const CsvText after = parse_csv(read_text(d.path / "runs.csv"));
   EXPECT_EQ(after.rows.size(), 4u);
   EXPECT_FALSE(after.truncated);
-  EXPECT_EQ(parse_csv(read(d.path / "iterations.csv")).rows.size(), 1u + 6u);
+  EXPECT_EQ(parse_csv(read_text(d.path / "iterations.csv")).rows.size(), 1u + 6u);
 }
 
 TEST(ExperimentResultFiles, ForeignFilesAreRejected) {
@@ -134,7 +130,7 @@ TEST(ExperimentResultFiles, ForeignFilesAreRejected) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("header"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(read(d.path / "runs.csv"), "a,b,c\n1,2,3\n");  // left alone
+  EXPECT_EQ(read_text(d.path / "runs.csv"), "a,b,c\n1,2,3\n");  // left alone
   // A row of the wrong width names its line.
   std::ofstream(d.path / "runs.csv") << csv_line(run_columns()) << "1,2\n";
   try {

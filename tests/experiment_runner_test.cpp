@@ -6,6 +6,7 @@
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/result_files.h"
 #include "experiments/harness/run_rows.h"
+#include "tests/read_text.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -22,12 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_text;
 
 ExperimentConfig small_config() {
   return parse_experiment_config(nlohmann::ordered_json::parse(R"({
@@ -60,7 +56,7 @@ struct Folder {
 };
 
 std::vector<Row> data_rows(const fs::path& file) {
-  CsvText t = parse_csv(read(file));
+  CsvText t = parse_csv(read_text(file));
   EXPECT_FALSE(t.truncated);
   EXPECT_FALSE(t.rows.empty());
   return {t.rows.begin() + 1, t.rows.end()};
@@ -94,7 +90,7 @@ TEST(ExperimentRunner, RunsEveryPointAndWritesTheFiles) {
   EXPECT_EQ(ids.size(), 8u);
   EXPECT_EQ(data_rows(out.path / "iterations.csv").size(), 16u);
 
-  const auto m = nlohmann::json::parse(read(out.path / "manifest.json"));
+  const auto m = nlohmann::json::parse(read_text(out.path / "manifest.json"));
   EXPECT_EQ(m["status"], "complete");
   EXPECT_EQ(m["runs_done"], 8);
   EXPECT_EQ(m["experiment"]["name"], "runner-test");
@@ -115,7 +111,7 @@ TEST(ExperimentRunner, ResumesAnInterruptedRun) {
   const auto points = expand_sweep(c);
   RunnerSettings s{out.path, true, stderr};
   run_experiment(inputs_for(c, points.size()), points, s);
-  const std::string full_runs = read(out.path / "runs.csv");
+  const std::string full_runs = read_text(out.path / "runs.csv");
 
   // Simulate a kill: keep 3 finished runs and half of the 4th row.
   const CsvText t = parse_csv(full_runs);
@@ -137,7 +133,7 @@ TEST(ExperimentRunner, ResumesAnInterruptedRun) {
   // The first three rows are the original ones, untouched.
   for (int i = 1; i < 4; ++i) EXPECT_EQ(runs[i - 1], t.rows[i]);
   EXPECT_EQ(data_rows(out.path / "iterations.csv").size(), 16u);
-  const auto m = nlohmann::json::parse(read(out.path / "manifest.json"));
+  const auto m = nlohmann::json::parse(read_text(out.path / "manifest.json"));
   EXPECT_EQ(m["status"], "complete");
   EXPECT_EQ(m["resumed_at"].size(), 1u);
 
@@ -154,7 +150,7 @@ TEST(ExperimentRunner, RefusesAnotherConfigsFolder) {
   const auto points = expand_sweep(c);
   RunnerSettings s{out.path, true, stderr};
   run_experiment(inputs_for(c, points.size()), points, s);
-  const std::string before = read(out.path / "runs.csv");
+  const std::string before = read_text(out.path / "runs.csv");
 
   const ExperimentConfig other = small_config();
   const auto other_points = expand_sweep(other);
@@ -164,7 +160,7 @@ TEST(ExperimentRunner, RefusesAnotherConfigsFolder) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("different configuration"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(read(out.path / "runs.csv"), before);
+  EXPECT_EQ(read_text(out.path / "runs.csv"), before);
 
   // A folder that is not a result folder is not written into.
   Folder junk("hrad_runner_junk");
@@ -230,7 +226,7 @@ TEST(ExperimentCli, QuickRunWithSetAndDryRun) {
                          (d.path / "res").string(), out), 0) << out;
   const auto runs = data_rows(d.path / "res" / "runs.csv");
   EXPECT_EQ(runs.size(), 2u);
-  const auto m = nlohmann::json::parse(read(d.path / "res" / "manifest.json"));
+  const auto m = nlohmann::json::parse(read_text(d.path / "res" / "manifest.json"));
   EXPECT_EQ(m["experiment"]["quick"], true);
   EXPECT_EQ(m["experiment"]["sets"].size(), 2u);
   EXPECT_EQ(m["command_line"][1], "experiment");

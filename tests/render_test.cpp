@@ -3,6 +3,7 @@
 #include "core/ply_writer.h"
 #include "core/render_mesh.h"
 #include "core/scene.h"
+#include "tests/read_text.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -55,12 +56,7 @@ std::filesystem::path temp_path(const std::string& name) {
          (std::string("hrad_") + info->name() + "_" + std::to_string(::getpid()) + "_" + name);
 }
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_text;
 
 TEST(Render, EmittingQuadHeadOnCoversItsRegionUniformly) {
   const RenderMesh m = square({3, 3, 3, 3});
@@ -155,7 +151,7 @@ TEST(Render, PngFileHasTheRenderedPixels) {
   const RenderMesh m = square({2, 2, 2, 2});
   const auto path = temp_path("quad.png");
   render_png(m, head_on(), 64, 48, path);
-  const std::string bytes = slurp(path);
+  const std::string bytes = read_text(path);
   std::filesystem::remove(path);
   ASSERT_GT(bytes.size(), 8u);
   EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
@@ -270,7 +266,7 @@ TEST(Ply, WritesAReadableBinaryMeshWithQuadsAndTriangles) {
   m.polys = {{0, 1, 2, 3}, {1, 4, 2, RenderMesh::kNoVertex}};
   const auto path = temp_path("mesh.ply");
   write_ply(m, path);
-  const std::string bytes = slurp(path);
+  const std::string bytes = read_text(path);
   std::filesystem::remove(path);
 
   const PlyContent ply = parse_ply(bytes);
