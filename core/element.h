@@ -1,4 +1,5 @@
-// Element and Link: the nodes and edges of the hierarchical radiosity graph.
+// Element: the nodes of the hierarchical radiosity graph (its edges, the links, are
+// in core/link_list.h).
 //
 // One complete hierarchy covers the scene: clusters (axis-aligned groups of input
 // polygons) over surface elements (an input polygon and, below it, its lazily built
@@ -8,34 +9,21 @@
 //
 // Concurrency: `children` is published once with a release store after the block
 // is fully built (under the element lock pool); readers acquire it. `links` is
-// only modified under the link lock pool during refinement and read-only during
-// propagation. Radiosities are frozen during refinement.
+// only appended to under the link lock pool during refinement, from the storing
+// refiner's arena, and read-only during propagation. Radiosities are frozen during
+// refinement.
 #pragma once
 
 #include "core/geometry.h"
+#include "core/link_list.h"
 
 #include <array>
 #include <atomic>
 #include <memory>
 #include <cstdint>
 #include <span>
-#include <vector>
 
 namespace hrad {
-
-struct Element;
-
-/// A link r <- s, stored at the receiver r. 16 bytes.
-struct Link {
-  Element* source = nullptr;
-  float form_factor = 0;  ///< unoccluded F_rs, receiver-area normalised
-  float visibility = 1;   ///< fraction of unblocked rays in [0,1]
-  /// Irradiance at r due to s is transport() * B_s.
-  [[nodiscard]] double transport() const {
-    return static_cast<double>(form_factor) * static_cast<double>(visibility);
-  }
-};
-static_assert(sizeof(Link) == 16, "links must stay small: they dominate memory");
 
 enum class ElementKind : std::uint8_t { Cluster, Surface };
 
@@ -72,7 +60,7 @@ struct Element {
   Rgb B = Rgb::Zero();          ///< radiosity, frozen during refinement
   Rgb gathered = Rgb::Zero();   ///< irradiance gathered over this element's own links
   Rgb next = Rgb::Zero();       ///< scratch for the Jacobi update
-  std::vector<Link> links;      ///< links where this element is the receiver
+  LinkList links;               ///< links where this element is the receiver (core/link_list.h)
   /// Clusters, with cluster_receiver = cosine only: irradiance arriving along +x, -x,
   /// +y, -y, +z, -z (on a unit surface facing that way), gathered here plus all that
   /// the cluster's ancestors gathered; allocated by the propagation.

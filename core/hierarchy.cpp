@@ -16,11 +16,15 @@ std::uint64_t child_id(std::uint64_t parent, std::uint32_t index) {
   return z ^ (z >> 31);
 }
 
-// Per-worker arena: blocks of elements in the worker's NodeArena, never moved,
-// destroyed with the hierarchy.
+// Per-worker arenas: blocks of elements in `memory`, never moved, destroyed with
+// the hierarchy; link blocks as stored in `staging`, reset once compacted into
+// `links`, which release_links() resets.
 struct Hierarchy::Arena {
-  Arena(int worker, const ArenaPlacement& placement) : memory(worker, placement) {}
+  Arena(int worker, const ArenaPlacement& placement)
+      : memory(worker, placement), links(worker, placement), staging(worker, placement) {}
   NodeArena memory;
+  NodeArena links;
+  NodeArena staging;
   std::vector<std::span<Element>> blocks;
   std::size_t elements = 0;
   char pad[64];
@@ -307,14 +311,72 @@ std::size_t Hierarchy::element_count() const {
   return n;
 }
 
+namespace {
+void add_to(std::vector<std::uint64_t>& total, const std::vector<std::uint64_t>& b) {
+  total.resize(std::max(total.size(), b.size()), 0);
+  for (std::size_t n = 0; n < b.size(); ++n) total[n] += b[n];
+}
+}  // namespace
+
 std::vector<std::uint64_t> Hierarchy::element_bytes_per_node() const {
   std::vector<std::uint64_t> total;
+  for (const auto& a : arenas_) add_to(total, a->memory.bytes_per_node());
+  return total;
+}
+
+std::vector<std::uint64_t> Hierarchy::link_bytes_per_node() const {
+  std::vector<std::uint64_t> total;
   for (const auto& a : arenas_) {
-    const std::vector<std::uint64_t> b = a->memory.bytes_per_node();
-    total.resize(std::max(total.size(), b.size()), 0);
-    for (std::size_t n = 0; n < b.size(); ++n) total[n] += b[n];
+    add_to(total, a->links.bytes_per_node());
+    add_to(total, a->staging.bytes_per_node());
   }
   return total;
+}
+
+std::size_t Hierarchy::link_bytes() const {
+  std::size_t n = 0;
+  for (const auto& a : arenas_) n += a->links.bytes_used() + a->staging.bytes_used();
+  return n;
+}
+
+bool Hierarchy::store_links(Element& r, std::span<const Link> links, int worker) {
+  const bool first = r.links.empty();
+  r.links.append(links, arenas_[static_cast<std::size_t>(worker)]->staging);
+  return first && !links.empty();
+}
+
+void Hierarchy::compact_links(Element& r, int worker) {
+  r.links.compact(arenas_[static_cast<std::size_t>(worker)]->links);
+}
+
+void Hierarchy::reset_link_staging(int worker) {
+  arenas_[static_cast<std::size_t>(worker)]->staging.reset();
+}
+
+void Hierarchy::release_links(const std::vector<Element*>& elements) {
+  for (Element* e : elements) e->links.clear();
+  for (const auto& a : arenas_) {
+    a->links.reset();
+    a->staging.reset();
+  }
+}
+
+std::vector<std::pair<const void*, int>> Hierarchy::sample_pages(std::size_t per_arena) const {
+  std::vector<std::pair<const void*, int>> out;
+  for (const auto& a : arenas_)
+    for (const NodeArena* m : {&a->memory, &a->links, &a->staging}) {
+      const auto s = m->sample_pages(per_arena);
+      out.insert(out.end(), s.begin(), s.end());
+    }
+  return out;
+}
+
+const NodeArena& Hierarchy::link_arena(int worker) const {
+  return arenas_.at(static_cast<std::size_t>(worker))->links;
+}
+
+const NodeArena& Hierarchy::link_staging_arena(int worker) const {
+  return arenas_.at(static_cast<std::size_t>(worker))->staging;
 }
 
 const NodeArena& Hierarchy::arena(int worker) const {

@@ -11,6 +11,9 @@
 // children exactly once (double-checked under a hashed lock) and allocates them
 // from the calling worker's arena (core/node_arena.h: page-aligned chunks that
 // record their owner and NUMA node; each element records its node in home_node).
+// Links are stored the same way, from a staging arena per worker (store_links), and
+// compacted into a link arena per worker when a refinement stage ends; elements live
+// as long as the hierarchy, links until release_links().
 #pragma once
 
 #include "core/element.h"
@@ -70,8 +73,35 @@ class Hierarchy {
   [[nodiscard]] std::size_t element_bytes() const;
   /// Element bytes by NUMA node, summed over the arenas (size = placement nodes).
   [[nodiscard]] std::vector<std::uint64_t> element_bytes_per_node() const;
-  /// A worker's arena (for tests and placement reports).
+  /// A worker's element arena (for tests and placement reports).
   [[nodiscard]] const NodeArena& arena(int worker) const;
+
+  /// Appends `links` at receiver `r` in blocks from `worker`'s link staging arena;
+  /// true when r had no links before (the caller then compacts r, see below). The
+  /// caller holds r's link lock (or no refiner runs); a worker's arenas are used by
+  /// that worker only.
+  bool store_links(Element& r, std::span<const Link> links, int worker);
+  /// Moves r's links into one block of `worker`'s link arena (core/link_list.h).
+  /// Call once per receiver when a refinement stage's stores are over, then
+  /// reset_link_staging() for every worker.
+  void compact_links(Element& r, int worker);
+  /// Hands `worker`'s staging arena out again from its start: every list it held
+  /// has been compacted.
+  void reset_link_staging(int worker);
+  /// Clears the links of every element in `elements` (which must hold every element
+  /// that has links) and hands all link arenas' memory out again from the start.
+  /// Call when no refiner runs.
+  void release_links(const std::vector<Element*>& elements);
+  /// Link bytes (blocks with their headers and free slots, in the link and staging
+  /// arenas), total and by NUMA node.
+  [[nodiscard]] std::size_t link_bytes() const;
+  [[nodiscard]] std::vector<std::uint64_t> link_bytes_per_node() const;
+  /// Up to `per_arena` pages of each element and link arena, with the node the arena
+  /// counts each on (see NodeArena::sample_pages).
+  [[nodiscard]] std::vector<std::pair<const void*, int>> sample_pages(std::size_t per_arena) const;
+  /// A worker's link arena and link staging arena (for tests).
+  [[nodiscard]] const NodeArena& link_arena(int worker) const;
+  [[nodiscard]] const NodeArena& link_staging_arena(int worker) const;
 
  private:
   struct Arena;

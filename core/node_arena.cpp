@@ -51,8 +51,8 @@ void NodeArena::new_chunk(std::size_t at_least) {
 void* NodeArena::allocate(std::size_t bytes, std::size_t align) {
   if (align == 0 || (align & (align - 1)) != 0 || align > kPageBytes)
     throw std::invalid_argument("NodeArena: alignment must be a power of two up to a page");
-  if (!chunks_.empty()) {
-    Chunk& c = chunks_.back();
+  for (; current_ < chunks_.size(); ++current_) {
+    Chunk& c = chunks_[current_];
     const std::size_t at = (c.used + align - 1) & ~(align - 1);
     if (at + bytes <= c.size) {
       used_ += at + bytes - c.used;  // alignment padding counts as used
@@ -61,10 +61,17 @@ void* NodeArena::allocate(std::size_t bytes, std::size_t align) {
     }
   }
   new_chunk(bytes);
+  current_ = chunks_.size() - 1;
   Chunk& c = chunks_.back();
   c.used = bytes;
   used_ += bytes;
   return c.base;
+}
+
+void NodeArena::reset() {
+  for (Chunk& c : chunks_) c.used = 0;
+  used_ = 0;
+  current_ = 0;
 }
 
 int NodeArena::node_of_page(std::uintptr_t address) const {
@@ -78,9 +85,12 @@ int NodeArena::node_of_page(std::uintptr_t address) const {
 
 int NodeArena::node_of(const void* p) const {
   const auto* b = static_cast<const std::byte*>(p);
-  // Newest chunk first: the memory just handed out is found at once.
-  for (auto c = chunks_.rbegin(); c != chunks_.rend(); ++c)
-    if (b >= c->base && b < c->base + c->used) return node_of_page(reinterpret_cast<std::uintptr_t>(p));
+  const auto in = [b](const Chunk& c) { return b >= c.base && b < c.base + c.used; };
+  // The chunk being handed out first: the memory just allocated is found at once.
+  if (current_ < chunks_.size() && in(chunks_[current_]))
+    return node_of_page(reinterpret_cast<std::uintptr_t>(p));
+  for (const Chunk& c : chunks_)
+    if (in(c)) return node_of_page(reinterpret_cast<std::uintptr_t>(p));
   return -1;
 }
 
@@ -96,6 +106,22 @@ std::vector<std::uint64_t> NodeArena::bytes_per_node() const {
       bytes[static_cast<std::size_t>(node_of_page(base + off))] += std::min(kPageBytes, c.used - off);
   }
   return bytes;
+}
+
+std::vector<std::pair<const void*, int>> NodeArena::sample_pages(std::size_t max) const {
+  std::vector<std::pair<const void*, int>> out;
+  std::size_t pages = 0;
+  for (const Chunk& c : chunks_) pages += (c.used + kPageBytes - 1) / kPageBytes;
+  if (pages == 0 || max == 0) return out;
+  const std::size_t step = (pages + max - 1) / max;
+  std::size_t k = 0;  // page number over all chunks
+  for (const Chunk& c : chunks_)
+    for (std::size_t off = 0; off < c.used; off += kPageBytes, ++k)
+      if (k % step == 0) {
+        const std::byte* p = c.base + off;
+        out.emplace_back(p, node_of_page(reinterpret_cast<std::uintptr_t>(p)));
+      }
+  return out;
 }
 
 int NodeArena::bind_failures(std::string* warning) const {

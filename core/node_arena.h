@@ -18,9 +18,11 @@
 //
 // Chunks come straight from mmap (kChunkBytes, or more for a bigger request), so their
 // pages are untouched when bound or first written: malloc could hand back pages some
-// other thread already touched. Memory is released when the arena is destroyed; the
-// arena never runs destructors (its user does). Not thread-safe: one arena per
-// refiner, used only by that refiner (the owner) or before refinement starts.
+// other thread already touched. Memory is released when the arena is destroyed, or
+// handed out again after reset(), which keeps the chunks (and so the node their pages
+// are on) for the same owner; the arena never runs destructors (its user does). Not
+// thread-safe: one arena per refiner, used only by that refiner (the owner) or while
+// no refiner runs.
 #pragma once
 
 #include "core/topology.h"
@@ -28,6 +30,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hrad {
@@ -56,19 +59,27 @@ class NodeArena {
   /// `bytes` of raw memory aligned to `align` (a power of two <= kPageBytes).
   [[nodiscard]] void* allocate(std::size_t bytes, std::size_t align);
 
+  /// Forgets everything handed out (the caller no longer uses it) and hands the same
+  /// chunks out again, from the first, before mapping new ones.
+  void reset();
+
   /// The node holding the byte at `p` (which must come from this arena), by the
   /// placement's rule above; -1 when `p` is not in this arena. O(1) for memory
-  /// from the newest chunk, O(chunks) at worst.
+  /// from the chunk being handed out, O(chunks) at worst.
   [[nodiscard]] int node_of(const void* p) const;
   [[nodiscard]] bool owns(const void* p) const { return node_of(p) >= 0; }
 
   [[nodiscard]] int owner() const { return owner_; }
   [[nodiscard]] int node() const { return node_; }     ///< the owner's node
-  /// Bytes handed out, alignment padding between them included.
+  /// Bytes handed out since construction or reset(), alignment padding included.
   [[nodiscard]] std::size_t bytes_used() const { return used_; }
-  [[nodiscard]] std::size_t chunk_count() const { return chunks_.size(); }
+  [[nodiscard]] std::size_t chunk_count() const { return chunks_.size(); }  ///< mapped
   /// bytes_used() by node (size = placement.nodes).
   [[nodiscard]] std::vector<std::uint64_t> bytes_per_node() const;
+  /// Up to `max` pages handed out (evenly spread over them), each with the node this
+  /// arena counts it on, for checking the bookkeeping against the OS
+  /// (Topology::node_of_address).
+  [[nodiscard]] std::vector<std::pair<const void*, int>> sample_pages(std::size_t max) const;
   /// Chunks whose memory binding hwloc refused (the first reason in `warning`).
   [[nodiscard]] int bind_failures(std::string* warning = nullptr) const;
   /// Outcome of binding this arena's chunks: Applied (or nothing to bind), Planned
@@ -90,6 +101,7 @@ class NodeArena {
   int nodes_;
   const Topology* topology_;
   std::vector<Chunk> chunks_;
+  std::size_t current_ = 0;  ///< the chunk allocate() hands out from (chunks before it are done)
   std::size_t used_ = 0;
   BindOutcome binding_ = BindOutcome::Applied;
   int bind_failures_ = 0;

@@ -58,7 +58,12 @@ void record_numa_stats(IterationStats& is, const RefineCounters& rc, const PinPl
   is.local_access_ratio = local + remote > 0
                               ? static_cast<double>(local) / static_cast<double>(local + remote)
                               : std::numeric_limits<double>::quiet_NaN();
-  is.bytes_per_node = hierarchy.element_bytes_per_node();
+  is.element_bytes_per_node = hierarchy.element_bytes_per_node();
+  is.link_bytes_per_node = hierarchy.link_bytes_per_node();
+  is.bytes_per_node = is.element_bytes_per_node;
+  is.bytes_per_node.resize(std::max(is.bytes_per_node.size(), is.link_bytes_per_node.size()), 0);
+  for (std::size_t n = 0; n < is.link_bytes_per_node.size(); ++n)
+    is.bytes_per_node[n] += is.link_bytes_per_node[n];
 }
 
 }  // namespace hrad

@@ -1,9 +1,9 @@
 // NUMA report: what a run's placement study reads in stats.json — each refiner's
 // planned node and PUs and whether the binding was applied, its tasks whose
 // receiver lived on its own node versus another (Element::home_node, counted from
-// the arenas), the iteration's local-access ratio, and element bytes per node; plus
-// the warnings a placement deserves (a plan that wraps around, bindings that failed
-// or were only planned on a synthetic topology).
+// the arenas), the iteration's local-access ratio, and element and link bytes per
+// node; plus the warnings a placement deserves (a plan that wraps around, bindings
+// that failed or were only planned on a synthetic topology).
 #pragma once
 
 #include "core/hierarchy.h"

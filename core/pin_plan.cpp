@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string_view>
 
 namespace hrad {
 
@@ -50,6 +51,18 @@ std::string format_pu_list(std::vector<int> pus) {
 const char* bind_thread(const Topology* topology, const ThreadBinding& b, std::string* warning) {
   if (topology == nullptr || b.pus.empty()) return "none";
   return bind_outcome_name(topology->bind_current_thread(b.pus, warning));
+}
+
+ScopedThreadBinding::ScopedThreadBinding(const Topology* topology, const ThreadBinding& b,
+                                         std::string* warning)
+    : topology_(topology) {
+  if (topology != nullptr && !b.pus.empty()) previous_ = topology->current_thread_pus();
+  outcome_ = bind_thread(topology, b, warning);
+  if (std::string_view(outcome_) != "applied") previous_.clear();
+}
+
+ScopedThreadBinding::~ScopedThreadBinding() {
+  if (!previous_.empty()) (void)topology_->bind_current_thread(previous_);
 }
 
 namespace {

@@ -58,6 +58,24 @@ struct PinPlan {
 /// `warning` set).
 const char* bind_thread(const Topology* topology, const ThreadBinding& b, std::string* warning);
 
+/// bind_thread() for a scope: when the binding is applied, the calling thread gets
+/// back the CPU set it had before when the object is destroyed (OpenMP keeps its
+/// threads, and the caller's own, for later stages and later runs).
+class ScopedThreadBinding {
+ public:
+  ScopedThreadBinding(const Topology* topology, const ThreadBinding& b,
+                      std::string* warning = nullptr);
+  ~ScopedThreadBinding();
+  ScopedThreadBinding(const ScopedThreadBinding&) = delete;
+  ScopedThreadBinding& operator=(const ScopedThreadBinding&) = delete;
+  [[nodiscard]] const char* outcome() const { return outcome_; }  ///< as bind_thread
+
+ private:
+  const Topology* topology_;
+  std::vector<int> previous_;  ///< empty: nothing to give back
+  const char* outcome_;
+};
+
 /// "0-3,8" for {0,1,2,3,8}: the PU list as numactl and hwloc write it.
 [[nodiscard]] std::string format_pu_list(std::vector<int> pus);
 

@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <span>
 #include <chrono>
+#include <span>
 #include <thread>
 
 namespace hrad {
@@ -29,6 +29,8 @@ struct alignas(64) Refiner::Worker {
   RefineCounters c;
   /// Links accepted in the current block, stored after it (see store_links).
   std::vector<std::pair<Element*, Link>> accepted;
+  std::vector<Link> batch;  ///< one receiver's accepted links, for store_links
+  std::vector<Element*> started;  ///< receivers whose first link this worker stored
   std::uint64_t next_id = 0;  ///< ids of the tasks this worker creates
   std::vector<TraceRecord> trace;
 };
@@ -51,7 +53,9 @@ void Refiner::store_links(Worker& w, bool wait) {
     while (j < a.size() && a[j].first == r) ++j;
     auto guard = wait ? link_locks_.lock(r, w.id) : link_locks_.try_lock(r);
     if (guard.owns_lock()) {
-      for (std::size_t k = i; k < j; ++k) r->links.push_back(a[k].second);
+      w.batch.clear();
+      for (std::size_t k = i; k < j; ++k) w.batch.push_back(a[k].second);
+      if (hierarchy_.store_links(*r, w.batch, w.id)) w.started.push_back(r);
     } else {
       for (std::size_t k = i; k < j; ++k) a[kept++] = a[k];
     }
@@ -217,11 +221,15 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
   {
     Worker& w = workers[static_cast<std::size_t>(omp_get_thread_num())];
     w.id = omp_get_thread_num();
-    if (plan_ && static_cast<std::size_t>(w.id) < plan_->refiners.size()) {
-      w.node = plan_->refiners[static_cast<std::size_t>(w.id)].node;
-      w.c.bound = bind_thread(topology_, plan_->refiners[static_cast<std::size_t>(w.id)],
-                              &w.c.bind_warning);
-    }
+    // OpenMP keeps its threads (this one may be the caller's) for later stages and
+    // later runs: a bound refiner gives the thread its CPU set back when the stage
+    // ends, so a run without pinning never inherits another's binding.
+    const ThreadBinding unbound;
+    const bool planned = plan_ && static_cast<std::size_t>(w.id) < plan_->refiners.size();
+    const ThreadBinding& b = planned ? plan_->refiners[static_cast<std::size_t>(w.id)] : unbound;
+    w.node = b.node;
+    const ScopedThreadBinding binding(topology_, b, &w.c.bind_warning);
+    w.c.bound = binding.outcome();
     w.next_id = (static_cast<std::uint64_t>(w.id + 1) << 48) |
                 (static_cast<std::uint64_t>(trace_iteration) << 40);
     std::vector<Task> block(static_cast<std::size_t>(block_size));
@@ -288,6 +296,15 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     }
     store_links(w, true);  // whatever a busy lock made it defer
     if (idle) w.c.idle_s += seconds_since(idle_since);
+    // Every store is done: each refiner moves the lists it started into one block of
+    // its own link arena (so, under first-touch, onto its node), then forgets its
+    // staging blocks. Others may still be reading from this refiner's staging blocks;
+    // the reset only marks them free, and nothing allocates from them this stage.
+#pragma omp barrier
+    const auto compact_start = Clock::now();
+    for (Element* r : w.started) hierarchy_.compact_links(*r, w.id);
+    hierarchy_.reset_link_staging(w.id);
+    w.c.compact_s = seconds_since(compact_start);
   }
   solver.join();
 
@@ -301,6 +318,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     total.rays_skipped += w.c.rays_skipped;
     total.busy_s += w.c.busy_s;
     total.idle_s += w.c.idle_s;
+    total.compact_s = std::max(total.compact_s, w.c.compact_s);
     total.takes += w.c.takes;
     total.submits += w.c.submits;
     total.per_worker.push_back(w.c);
@@ -311,7 +329,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
   return total;
 }
 
-std::vector<Task> Refiner::reload_links(const std::vector<Element*>& elements) {
+std::vector<Task> Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements) {
   std::size_t n = 0;
   for (const Element* e : elements) n += e->links.size();
   std::vector<Task> tasks;
@@ -327,8 +345,8 @@ std::vector<Task> Refiner::reload_links(const std::vector<Element*>& elements) {
       t.evaluated = true;
       tasks.push_back(t);
     }
-    std::vector<Link>().swap(e->links);
   }
+  hierarchy.release_links(elements);
   return tasks;
 }
 

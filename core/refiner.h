@@ -47,6 +47,9 @@ struct RefineCounters {
   double idle_s = 0;                ///< summed over refiners: waiting for tasks
   int peak_parallelism = 0;         ///< most refiners busy at once
   double load_s = 0;                ///< solver thread: time to submit the initial tasks
+  /// Time to compact the stage's link lists (core/link_list.h) after the last task:
+  /// per refiner, and in the total the longest.
+  double compact_s = 0;
   std::uint64_t takes = 0;          ///< take() calls that returned tasks
   std::uint64_t submits = 0;        ///< submit() calls
   /// Tasks whose receiver's memory (Element::home_node) is on this refiner's node,
@@ -66,7 +69,8 @@ class Refiner {
           RefineLimits limits, LockPool& element_locks, LockPool& link_locks);
 
   /// Binds refiner i (and the solver thread) as `plan` says at the start of every
-  /// run(), through `topology`, and counts tasks as local when the receiver's
+  /// run(), through `topology`, and gives each refiner's thread its previous CPU set
+  /// back when the stage ends; counts tasks as local when the receiver's
   /// home_node is the refiner's plan node. Both must outlive the Refiner; without a
   /// call, refiners are unbound and on node 0.
   void set_binding(const Topology* topology, const PinPlan* plan) {
@@ -81,8 +85,11 @@ class Refiner {
                      int block_size, int trace_iteration = 0);
 
   /// Tasks for the next iteration: every stored link, removed from its receiver
-  /// (call between stages only). Reloaded tasks carry their F and visibility.
-  static std::vector<Task> reload_links(const std::vector<Element*>& elements);
+  /// (call between stages only; `elements` must be all of the hierarchy's, and the
+  /// link memory is handed out again, see Hierarchy::release_links). Reloaded tasks
+  /// carry their F and visibility.
+  static std::vector<Task> reload_links(Hierarchy& hierarchy,
+                                        const std::vector<Element*>& elements);
 
  private:
   struct Worker;

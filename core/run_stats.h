@@ -45,10 +45,14 @@ struct IterationStats {
   double idle_s = 0;                ///< refiner time spent waiting for tasks
   int peak_parallelism = 0;         ///< most refiners busy at the same moment
   double load_s = 0;                ///< solver thread: time to load the initial tasks
+  double link_compact_s = 0;        ///< end of the stage: longest refiner's link compaction
   std::uint64_t steals = 0;         ///< tasks taken from another refiner's queue
   std::vector<RefinerStats> refiners;  ///< per refiner, by OpenMP thread number
-  /// Element bytes by NUMA node as the arenas count them (core/node_arena.h).
+  /// Bytes by NUMA node as the placement arenas count them (core/node_arena.h):
+  /// elements and links together, and each alone.
   std::vector<std::uint64_t> bytes_per_node;
+  std::vector<std::uint64_t> element_bytes_per_node;
+  std::vector<std::uint64_t> link_bytes_per_node;
   /// Tasks whose receiver was on the refiner's node / all tasks (NaN: no tasks).
   double local_access_ratio = 0;
   std::uint64_t rays_cast = 0;

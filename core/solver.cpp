@@ -48,6 +48,14 @@ std::vector<const Element*> leaf_surfaces(const Element& root) {
   }
   return leaves;
 }
+// The cluster tree is built by the calling thread into refiner 0's arena, so the
+// thread is bound as refiner 0 while it builds: under first-touch the tree's pages then
+// land on refiner 0's node, where the arena counts them.
+Hierarchy build_hierarchy(const Scene& scene, int threads, const ArenaPlacement& placement,
+                          const Topology& topology, const PinPlan& plan) {
+  const ScopedThreadBinding bound(&topology, plan.refiners.empty() ? ThreadBinding{} : plan.refiners[0]);
+  return Hierarchy(scene, threads, placement);
+}
 }  // namespace
 
 struct Solver::Impl {
@@ -73,9 +81,11 @@ struct Solver::Impl {
         topology(std::make_unique<Topology>()),
         plan(make_pin_plan(topology->info(), parse_pin_policy(o.pin), o.threads)),
         rays(RayScene::from_scene(s)),
-        hierarchy(s, o.threads,
-                  ArenaPlacement{parse_placement(o.placement), topology->info().numa_nodes,
-                                 plan.worker_nodes(), topology.get()}),
+        hierarchy(build_hierarchy(
+            s, o.threads,
+            ArenaPlacement{parse_placement(o.placement), topology->info().numa_nodes,
+                           plan.worker_nodes(), topology.get()},
+            *topology, plan)),
         transport(hierarchy, rays, o.visibility_rays, o.seed, parse_cluster_model(o.cluster_model)),
         oracle(make_oracle(o.oracle)),
         row_sum_mode(parse_row_sum_mode(o.row_sums)),
@@ -150,6 +160,7 @@ RunStats Solver::run() {
     is.idle_s = rc.idle_s;
     is.peak_parallelism = rc.peak_parallelism;
     is.load_s = rc.load_s;
+    is.link_compact_s = rc.compact_s;
     is.tasks = rc.tasks;
     is.links_created = rc.links_created;
     is.rays_cast = rc.rays_cast;
@@ -194,15 +205,12 @@ RunStats Solver::run() {
           "iteration {}: propagation stopped at the cap of {} sweeps (change {:.3g})", it,
           pr.sweeps, pr.last_change));
 
-    std::uint64_t links = 0, link_bytes = 0;
-    for (const Element* e : elements) {
-      links += e->links.size();
-      link_bytes += e->links.capacity() * sizeof(Link);
-    }
+    std::uint64_t links = 0;
+    for (const Element* e : elements) links += e->links.size();
     is.links = links;
     is.elements = elements.size();
     is.bytes["elements"] = m.hierarchy.element_bytes();
-    is.bytes["links"] = link_bytes;
+    is.bytes["links"] = m.hierarchy.link_bytes();
     is.peak_rss_bytes = peak_rss_bytes();
     stats.iterations.push_back(is);
     stats.totals.iterations_run = it;
@@ -216,7 +224,7 @@ RunStats Solver::run() {
                              it, o.iterations)};
       break;
     }
-    if (it < o.iterations) tasks = Refiner::reload_links(elements);
+    if (it < o.iterations) tasks = Refiner::reload_links(m.hierarchy, elements);
   }
   if (!o.trace.empty()) {
     const nlohmann::json header = {

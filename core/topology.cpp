@@ -182,6 +182,16 @@ BindOutcome Topology::bind_current_thread(const std::vector<int>& pus, std::stri
   return BindOutcome::Applied;
 }
 
+std::vector<int> Topology::current_thread_pus() const {
+  std::vector<int> pus;
+  if (info_.synthetic) return pus;
+  BitmapPtr set = new_bitmap();
+  if (hwloc_get_cpubind(handle_->topo.get(), set.get(), HWLOC_CPUBIND_THREAD) != 0) return pus;
+  for (int i = hwloc_bitmap_first(set.get()); i >= 0; i = hwloc_bitmap_next(set.get(), i))
+    pus.push_back(i);
+  return pus;
+}
+
 BindOutcome Topology::bind_memory(void* p, std::size_t len, MemBind how, int node,
                                   std::string* warning) const {
   if (how == MemBind::FirstTouch) return BindOutcome::Applied;

@@ -79,6 +79,11 @@ class Topology {
   /// (hwloc_set_cpubind, HWLOC_CPUBIND_THREAD). On failure, `warning` says why.
   BindOutcome bind_current_thread(const std::vector<int>& pus, std::string* warning = nullptr) const;
 
+  /// The OS indices of the PUs the calling thread may run on (hwloc_get_cpubind,
+  /// HWLOC_CPUBIND_THREAD), to restore after a binding; empty when the topology is
+  /// not this machine's or the OS cannot say.
+  [[nodiscard]] std::vector<int> current_thread_pus() const;
+
   /// Binds the pages of [p, p + len) (page-aligned, not yet touched) by `how`
   /// (hwloc_set_area_membind); `node` is a logical node index for MemBind::Node.
   /// FirstTouch does nothing and returns Applied.

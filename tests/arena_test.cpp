@@ -82,6 +82,28 @@ TEST(NodeArena, InterleaveSpreadsPagesNode0KeepsThemOnNodeZero) {
   EXPECT_EQ(z.bytes_per_node(), (std::vector<std::uint64_t>{5000, 0}));
 }
 
+TEST(NodeArena, ResetHandsTheSameChunksOutAgain) {
+  const ArenaPlacement place{MemBind::FirstTouch, 2, {1}, nullptr};
+  NodeArena a(0, place);
+  std::vector<void*> first;
+  for (int i = 0; i < 300; ++i) first.push_back(a.allocate(2000, 16));  // about 3 chunks
+  const std::size_t chunks = a.chunk_count();
+  ASSERT_GE(chunks, 3u);
+  a.reset();
+  EXPECT_EQ(a.bytes_used(), 0u);
+  EXPECT_EQ(a.bytes_per_node(), (std::vector<std::uint64_t>{0, 0}));
+  EXPECT_FALSE(a.owns(first[0]));  // forgotten until handed out again
+  // The same sequence of requests gets the same addresses, in the same chunks.
+  for (int i = 0; i < 300; ++i) ASSERT_EQ(a.allocate(2000, 16), first[static_cast<std::size_t>(i)]) << i;
+  EXPECT_EQ(a.chunk_count(), chunks);
+  EXPECT_EQ(a.node_of(first[0]), 1);
+  EXPECT_EQ(a.node_of(first.back()), 1);
+  // Past the old chunks, new ones are mapped.
+  for (int i = 0; i < 200; ++i) (void)a.allocate(2000, 16);
+  EXPECT_GT(a.chunk_count(), chunks);
+  EXPECT_EQ(a.bytes_used(), 500u * 2000u);
+}
+
 TEST(NodeArena, BadAlignmentAndUnknownPlacementAreErrors) {
   NodeArena a(0, ArenaPlacement{});
   EXPECT_THROW((void)a.allocate(10, 3), std::invalid_argument);

@@ -262,7 +262,8 @@ TEST(EffectsShortcut, GreyGatherReadsOneChannel) {
     for (Element* e : els)
       if (!e->is_cluster()) (e->face == 0 ? r : s) = e;
     ASSERT_TRUE(r && s);
-    r->links.push_back(Link{s, 0.5f, 1.0f});
+    const Link l{s, 0.5f, 1.0f};
+    h.store_links(*r, {&l, 1}, 0);
     s->B = Rgb(1, 2, 3);
     propagation_sweep(els, 1, ClusterReceiver::Isotropic, grey);
     EXPECT_EQ(r->gathered[0], 0.5);

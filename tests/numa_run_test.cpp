@@ -6,6 +6,7 @@
 #include "core/element.h"
 #include "core/solver.h"
 #include "core/stats_json.h"
+#include "core/topology.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
 #include "tests/env_guard.h"
@@ -164,7 +165,15 @@ void expect_consistent_numa_stats(const RunStats& stats, const std::string& what
   ASSERT_FALSE(stats.iterations.empty()) << what;
   for (const IterationStats& it : stats.iterations) {
     ASSERT_EQ(it.bytes_per_node.size(), 2u) << what;
-    EXPECT_EQ(it.bytes_per_node[0] + it.bytes_per_node[1], it.elements * sizeof(Element)) << what;
+    ASSERT_EQ(it.element_bytes_per_node.size(), 2u) << what;
+    ASSERT_EQ(it.link_bytes_per_node.size(), 2u) << what;
+    EXPECT_EQ(it.element_bytes_per_node[0] + it.element_bytes_per_node[1],
+              it.elements * sizeof(Element)) << what;
+    // Every link byte is in an arena: the per-node counts add up to the link memory.
+    EXPECT_EQ(it.link_bytes_per_node[0] + it.link_bytes_per_node[1], it.bytes.at("links")) << what;
+    EXPECT_GE(it.bytes.at("links"), it.links * sizeof(Link)) << what;
+    for (std::size_t n = 0; n < 2; ++n)
+      EXPECT_EQ(it.bytes_per_node[n], it.element_bytes_per_node[n] + it.link_bytes_per_node[n]) << what;
     std::uint64_t local = 0, remote = 0, tasks = 0;
     for (const RefinerStats& r : it.refiners) {
       local += r.tasks_local;
@@ -197,13 +206,18 @@ TEST(SolverNuma, SyntheticTwoNodesScatterLocality) {
       EXPECT_EQ(it.refiners[i].bound, "planned");
     }
   }
-  // First touch: refiners on both nodes subdivided, so both nodes hold elements.
+  // First touch: refiners on both nodes subdivided and stored links, so both nodes
+  // hold elements and links.
   const IterationStats& last = got.stats.iterations.back();
-  EXPECT_GT(last.bytes_per_node[0], 0u);
-  EXPECT_GT(last.bytes_per_node[1], 0u);
+  EXPECT_GT(last.element_bytes_per_node[0], 0u);
+  EXPECT_GT(last.element_bytes_per_node[1], 0u);
+  EXPECT_GT(last.link_bytes_per_node[0], 0u);
+  EXPECT_GT(last.link_bytes_per_node[1], 0u);
   const nlohmann::json j = stats_to_json(got.stats);
   const nlohmann::json& it = j["iterations"][0];
   EXPECT_EQ(it["bytes_per_node"].size(), 2u);
+  EXPECT_EQ(it["link_bytes_per_node"].size(), 2u);
+  EXPECT_EQ(it["element_bytes_per_node"].size(), 2u);
   EXPECT_TRUE(it["local_access_ratio"].is_number());
   EXPECT_EQ(it["refiners"][1]["bound"], "planned");
   EXPECT_EQ(it["refiners"][1]["node"], 1);
@@ -222,13 +236,17 @@ TEST(SolverNuma, SyntheticTwoNodesInterleaveAndNode0) {
   const IterationStats& a = inter.stats.iterations.back();
   EXPECT_EQ(a.refiners[1].node, 1);
   EXPECT_EQ(a.refiners[1].pus, "2-3");
-  // Interleaved pages: the two nodes' shares differ by at most a page per chunk.
+  // Interleaved pages: the two nodes' shares differ by at most a page per chunk,
+  // for elements and for links.
   const double total = static_cast<double>(a.bytes_per_node[0] + a.bytes_per_node[1]);
   EXPECT_NEAR(static_cast<double>(a.bytes_per_node[0]) / total, 0.5, 0.05);
+  const double links = static_cast<double>(a.link_bytes_per_node[0] + a.link_bytes_per_node[1]);
+  EXPECT_NEAR(static_cast<double>(a.link_bytes_per_node[0]) / links, 0.5, 0.05);
   const NumaSolve zero = solve_cornell("locality", 2, "scatter", "node0");
   expect_consistent_numa_stats(zero.stats, "scatter/node0");
   const IterationStats& z = zero.stats.iterations.back();
-  EXPECT_EQ(z.bytes_per_node[1], 0u);
+  EXPECT_EQ(z.bytes_per_node[1], 0u);  // elements and links
+  EXPECT_GT(z.link_bytes_per_node[0], 0u);
   // Every receiver is on node 0: refiner 0 (node 0) only has local tasks, refiner 1
   // (node 1) only remote ones.
   EXPECT_EQ(z.refiners[0].tasks_remote, 0u);
@@ -251,6 +269,28 @@ TEST(SolverNuma, UnpinnedOnThisMachineIsAllLocal) {
     EXPECT_DOUBLE_EQ(it.local_access_ratio, 1.0);  // one node here (or unpinned: node 0)
     for (const RefinerStats& rs : it.refiners) EXPECT_EQ(rs.bound, "none");
   }
+}
+
+// OpenMP keeps its threads between runs: after a pinned run, the caller's thread and
+// the team's other thread may again run wherever they could before (the experiment
+// harness runs pinned and unpinned configurations in one process).
+TEST(SolverNuma, PinnedRunGivesTheThreadsTheirCpusBack) {
+  if (std::getenv("HWLOC_SYNTHETIC") || std::getenv("HWLOC_XMLFILE"))
+    GTEST_SKIP() << "HWLOC_SYNTHETIC or HWLOC_XMLFILE is set";
+  const Topology topo;
+  const std::vector<int> before = topo.current_thread_pus();
+  ASSERT_FALSE(before.empty());
+  if (before.size() < 2) GTEST_SKIP() << "this thread may only run on one PU";
+  const NumaSolve r = solve_cornell("blocked", 2, "compact", "first-touch");
+  ASSERT_EQ(r.stats.iterations.back().refiners.size(), 2u);
+  EXPECT_EQ(r.stats.iterations.back().refiners[1].pus, std::to_string(before[1]));
+  for (const RefinerStats& rs : r.stats.iterations.back().refiners) EXPECT_EQ(rs.bound, "applied");
+  EXPECT_EQ(topo.current_thread_pus(), before);
+  std::vector<std::vector<int>> team(2);
+#pragma omp parallel num_threads(2)
+  team[static_cast<std::size_t>(omp_get_thread_num())] = topo.current_thread_pus();
+  EXPECT_EQ(team[0], before);
+  EXPECT_EQ(team[1], before);
 }
 
 std::string run_hrad(const std::string& args, int* status) {

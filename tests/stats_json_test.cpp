@@ -71,6 +71,8 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"row_sums", Kind::Object},        {"steals", Kind::Integer},
       {"refiners", Kind::Array},         {"load_s", Kind::Number},
       {"bytes_per_node", Kind::Array},   {"local_access_ratio", Kind::Number},
+      {"element_bytes_per_node", Kind::Array}, {"link_bytes_per_node", Kind::Array},
+      {"link_compact_s", Kind::Number},
   };
   ASSERT_TRUE(j.at("iterations").is_array());
   ASSERT_EQ(j["iterations"].size(), 2u);
