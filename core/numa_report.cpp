@@ -38,7 +38,8 @@ void add_placement_warnings(const PinPlan& plan, const TopologyInfo& topology,
 }
 
 void record_numa_stats(IterationStats& is, const RefineCounters& rc, const PinPlan& plan,
-                       const Hierarchy& hierarchy, std::vector<std::string>& warnings) {
+                       const Hierarchy& hierarchy, const Topology& topology,
+                       std::vector<std::string>& warnings) {
   std::uint64_t local = 0, remote = 0;
   for (std::size_t w = 0; w < rc.per_worker.size() && w < is.refiners.size(); ++w) {
     const RefineCounters& c = rc.per_worker[w];
@@ -64,6 +65,21 @@ void record_numa_stats(IterationStats& is, const RefineCounters& rc, const PinPl
   is.bytes_per_node.resize(std::max(is.bytes_per_node.size(), is.link_bytes_per_node.size()), 0);
   for (std::size_t n = 0; n < is.link_bytes_per_node.size(); ++n)
     is.bytes_per_node[n] += is.link_bytes_per_node[n];
+
+  if (topology.info().synthetic) return;  // the pages are not on that machine's nodes
+  IterationStats::PlacementCheck& pc = is.placement_check;
+  pc.checked = true;
+  for (const auto& [page, node] : hierarchy.sample_pages(kPlacementCheckPages)) {
+    ++pc.pages;
+    const int os = topology.node_of_address(page);
+    if (os < 0) ++pc.unknown;
+    else if (os == node) ++pc.agree;
+  }
+  if (pc.agree + pc.unknown < pc.pages)
+    add_once(warnings, fmt::format("placement: the OS has some arena pages on another node than "
+                                   "the arenas count them on ({} of {} sampled pages in "
+                                   "iteration {}); local and remote task counts are estimates",
+                                   pc.pages - pc.agree - pc.unknown, pc.pages, is.iteration));
 }
 
 }  // namespace hrad

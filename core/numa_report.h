@@ -22,9 +22,17 @@ void add_placement_warnings(const PinPlan& plan, const TopologyInfo& topology,
                             const Hierarchy& hierarchy, const SolverOptions& options,
                             std::vector<std::string>& warnings);
 
+/// Pages per arena whose node the placement check asks the OS for.
+inline constexpr std::size_t kPlacementCheckPages = 32;
+
 /// Fills the NUMA fields of `is` (its refiners must already be there, one per
 /// worker of `rc.per_worker`); adds a warning when a refiner's binding failed.
+/// On this machine's topology, also checks up to kPlacementCheckPages pages of every
+/// arena against the OS (hwloc_get_area_memlocation, through `topology`) and warns
+/// when a page is not on the node the arena counts it on: then the local and remote
+/// counts, which come from the arenas' bookkeeping, are estimates.
 void record_numa_stats(IterationStats& is, const RefineCounters& rc, const PinPlan& plan,
-                       const Hierarchy& hierarchy, std::vector<std::string>& warnings);
+                       const Hierarchy& hierarchy, const Topology& topology,
+                       std::vector<std::string>& warnings);
 
 }  // namespace hrad

@@ -53,6 +53,13 @@ struct IterationStats {
   std::vector<std::uint64_t> bytes_per_node;
   std::vector<std::uint64_t> element_bytes_per_node;
   std::vector<std::uint64_t> link_bytes_per_node;
+  /// The arenas' bookkeeping checked against the OS (core/numa_report.h): pages
+  /// sampled, pages the OS puts on the node the arenas count them on, pages the OS
+  /// could not place. Not done (checked false) on a topology that is not this machine's.
+  struct PlacementCheck {
+    bool checked = false;
+    std::uint64_t pages = 0, agree = 0, unknown = 0;
+  } placement_check;
   /// Tasks whose receiver was on the refiner's node / all tasks (NaN: no tasks).
   double local_access_ratio = 0;
   std::uint64_t rays_cast = 0;

@@ -172,7 +172,7 @@ RunStats Solver::run() {
                                          element_locks.wait_seconds(id) + link_locks.wait_seconds(id),
                                          c.rays_cast});
     }
-    record_numa_stats(is, rc, m.plan, m.hierarchy, stats.warnings);
+    record_numa_stats(is, rc, m.plan, m.hierarchy, *m.topology, stats.warnings);
     const SchedulerCounters sc = scheduler->counters();
     is.steals = sc.steals;
     is.scheduler_ops = sc.takes + sc.empty_takes + sc.submits;

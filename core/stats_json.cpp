@@ -79,6 +79,11 @@ nlohmann::json iteration_json(const IterationStats& it) {
       {"bytes_per_node", it.bytes_per_node},
       {"element_bytes_per_node", it.element_bytes_per_node},
       {"link_bytes_per_node", it.link_bytes_per_node},
+      {"placement_check", it.placement_check.checked
+                              ? nlohmann::json{{"pages", it.placement_check.pages},
+                                               {"agree", it.placement_check.agree},
+                                               {"unknown", it.placement_check.unknown}}
+                              : nlohmann::json(nullptr)},
       {"local_access_ratio", number(it.local_access_ratio)},
       {"bytes_per_link", number(per(it.bytes, "links", it.links))},
       {"bytes_per_element", number(per(it.bytes, "elements", it.elements))},

@@ -104,6 +104,22 @@ TEST(NodeArena, ResetHandsTheSameChunksOutAgain) {
   EXPECT_EQ(a.bytes_used(), 500u * 2000u);
 }
 
+TEST(NodeArena, SamplePagesSpreadsOverWhatWasHandedOut) {
+  NodeArena a(0, ArenaPlacement{MemBind::Interleave, 3, {0}, nullptr});
+  EXPECT_TRUE(a.sample_pages(8).empty());
+  auto* p = static_cast<unsigned char*>(a.allocate(10 * NodeArena::kPageBytes + 100, 64));
+  const auto all = a.sample_pages(100);  // 11 pages in use: every one
+  ASSERT_EQ(all.size(), 11u);
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    EXPECT_EQ(all[k].first, p + k * NodeArena::kPageBytes);
+    EXPECT_EQ(all[k].second, a.node_of(p + k * NodeArena::kPageBytes));
+  }
+  const auto some = a.sample_pages(4);  // every third page: 0, 3, 6, 9
+  ASSERT_EQ(some.size(), 4u);
+  EXPECT_EQ(some[1].first, p + 3 * NodeArena::kPageBytes);
+  EXPECT_EQ(some[3].first, p + 9 * NodeArena::kPageBytes);
+}
+
 TEST(NodeArena, BadAlignmentAndUnknownPlacementAreErrors) {
   NodeArena a(0, ArenaPlacement{});
   EXPECT_THROW((void)a.allocate(10, 3), std::invalid_argument);

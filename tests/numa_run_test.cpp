@@ -223,6 +223,8 @@ TEST(SolverNuma, SyntheticTwoNodesScatterLocality) {
   EXPECT_EQ(it["refiners"][1]["node"], 1);
   EXPECT_EQ(it["refiners"][1]["pus"], "2");
   EXPECT_TRUE(it["refiners"][1].contains("tasks_local"));
+  EXPECT_TRUE(it["placement_check"].is_null());  // not this machine's pages: no check
+  EXPECT_FALSE(got.stats.iterations[0].placement_check.checked);
   bool planned_warning = false;
   for (const std::string& w : got.stats.warnings)
     planned_warning |= w.find("planned") != std::string::npos;
@@ -285,6 +287,13 @@ TEST(SolverNuma, PinnedRunGivesTheThreadsTheirCpusBack) {
   ASSERT_EQ(r.stats.iterations.back().refiners.size(), 2u);
   EXPECT_EQ(r.stats.iterations.back().refiners[1].pus, std::to_string(before[1]));
   for (const RefinerStats& rs : r.stats.iterations.back().refiners) EXPECT_EQ(rs.bound, "applied");
+  // The OS agrees with the arenas' bookkeeping on every sampled page (one node here).
+  for (const IterationStats& it : r.stats.iterations) {
+    EXPECT_TRUE(it.placement_check.checked);
+    EXPECT_GT(it.placement_check.pages, 0u);
+    EXPECT_EQ(it.placement_check.agree + it.placement_check.unknown, it.placement_check.pages);
+    EXPECT_GT(it.placement_check.agree, 0u);
+  }
   EXPECT_EQ(topo.current_thread_pus(), before);
   std::vector<std::vector<int>> team(2);
 #pragma omp parallel num_threads(2)
