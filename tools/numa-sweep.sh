@@ -1,8 +1,8 @@
 #!/bin/bash
 # NUMA placement sweep: solves one scene under every pin x placement x scheduler given
 # and prints a Markdown table of the run's local-access ratio (sum of tasks_local over
-# sum of tasks, all iterations), the element bytes per node, the refinement time and
-# the steals, read from each run's stats.json.
+# sum of tasks, all iterations), the element and link bytes per node, the refinement
+# time and the steals, read from each run's stats.json.
 #
 # usage: tools/numa-sweep.sh SCENE THREADS "PINS" "PLACEMENTS" "SCHEDULERS"
 #   e.g. HWLOC_SYNTHETIC="node:2 core:2 pu:1" tools/numa-sweep.sh builtin:cornell 2 \
