@@ -75,7 +75,9 @@ class LinkList {
       ++*this;
       return t;
     }
-    friend bool operator==(const const_iterator& a, const const_iterator& b) { return a.p_ == b.p_; }
+    friend bool operator==(const const_iterator& a, const const_iterator& b) {
+      return a.p_ == b.p_;
+    }
 
    private:
     void enter(const LinkBlock* b) {  // blocks are never empty

@@ -329,7 +329,8 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
   return total;
 }
 
-std::vector<Task> Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements) {
+std::vector<Task> Refiner::reload_links(Hierarchy& hierarchy,
+                                       const std::vector<Element*>& elements) {
   std::size_t n = 0;
   for (const Element* e : elements) n += e->links.size();
   std::vector<Task> tasks;

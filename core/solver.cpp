@@ -48,12 +48,14 @@ std::vector<const Element*> leaf_surfaces(const Element& root) {
   }
   return leaves;
 }
+
 // The cluster tree is built by the calling thread into refiner 0's arena, so the
 // thread is bound as refiner 0 while it builds: under first-touch the tree's pages then
 // land on refiner 0's node, where the arena counts them.
 Hierarchy build_hierarchy(const Scene& scene, int threads, const ArenaPlacement& placement,
                           const Topology& topology, const PinPlan& plan) {
-  const ScopedThreadBinding bound(&topology, plan.refiners.empty() ? ThreadBinding{} : plan.refiners[0]);
+  const ScopedThreadBinding bound(&topology,
+                                  plan.refiners.empty() ? ThreadBinding{} : plan.refiners[0]);
   return Hierarchy(scene, threads, placement);
 }
 }  // namespace

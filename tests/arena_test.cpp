@@ -94,7 +94,7 @@ TEST(NodeArena, ResetHandsTheSameChunksOutAgain) {
   EXPECT_EQ(a.bytes_per_node(), (std::vector<std::uint64_t>{0, 0}));
   EXPECT_FALSE(a.owns(first[0]));  // forgotten until handed out again
   // The same sequence of requests gets the same addresses, in the same chunks.
-  for (int i = 0; i < 300; ++i) ASSERT_EQ(a.allocate(2000, 16), first[static_cast<std::size_t>(i)]) << i;
+  for (std::size_t i = 0; i < 300; ++i) ASSERT_EQ(a.allocate(2000, 16), first[i]) << i;
   EXPECT_EQ(a.chunk_count(), chunks);
   EXPECT_EQ(a.node_of(first[0]), 1);
   EXPECT_EQ(a.node_of(first.back()), 1);
