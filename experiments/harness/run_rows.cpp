@@ -12,23 +12,6 @@ namespace hrad::experiment {
 namespace {
 
 constexpr const char* kIdentity[] = {"config", "point", "repetition", "scene", "swept"};
-constexpr const char* kLockClasses[] = {"scheduler", "element", "link"};
-
-// Per-iteration figures, in column order (after "iteration").
-constexpr const char* kIterationFigures[] = {
-    "refine_wall_s", "refine_cpu_s", "propagate_wall_s", "links_created", "links",
-    "elements", "bytes_elements", "bytes_links", "bytes_total", "peak_rss_bytes", "tasks",
-    "scheduler_ops", "steals", "idle_s", "lock_wait_scheduler_s", "lock_wait_element_s",
-    "lock_wait_link_s", "lock_wait_total_s", "peak_parallelism", "local_access_ratio",
-    "rays_cast", "rays_skipped", "gather_sweeps", "max_change"};
-
-constexpr const char* kRunFigures[] = {
-    "wall_s", "refine_wall_s", "refine_cpu_s", "propagate_wall_s", "links", "elements",
-    "links_created", "rays_cast", "rays_skipped", "peak_rss_bytes", "bytes_elements",
-    "bytes_links", "bytes_total", "tasks", "scheduler_ops", "steals", "idle_s",
-    "lock_wait_scheduler_s", "lock_wait_element_s", "lock_wait_link_s", "lock_wait_total_s",
-    "peak_parallelism", "local_access_ratio", "gather_sweeps", "iterations_run", "started_at",
-    "probe_err_mean", "probe_err_max", "probe_err_rms", "probe_s"};
 
 std::vector<std::string> with_identity_and_options() {
   std::vector<std::string> c(std::begin(kIdentity), std::end(kIdentity));
@@ -60,12 +43,118 @@ Row identity_and_options(const std::string& config_name, const SweepPoint& point
   return r;
 }
 
+// The figures of a row, each with its column name, written in one place: the headers
+// are the names collected while flattening an empty run, so a header and its rows
+// cannot disagree.
+class Cells {
+ public:
+  explicit Cells(std::vector<std::string>* names = nullptr) : names_(names) {}
+  void add(const char* name, std::string value) {
+    if (names_) names_->push_back(name);
+    values_.push_back(std::move(value));
+  }
+  [[nodiscard]] Row take() { return std::move(values_); }
+
+ private:
+  std::vector<std::string>* names_;
+  Row values_;
+};
+
+void iteration_figures(Cells& c, const IterationStats& it) {
+  c.add("iteration", num(it.iteration));
+  c.add("refine_wall_s", num(it.refine_wall_s));
+  c.add("refine_cpu_s", num(it.refine_cpu_s));
+  c.add("propagate_wall_s", num(it.propagate_wall_s));
+  c.add("links_created", num(it.links_created));
+  c.add("links", num(it.links));
+  c.add("elements", num(it.elements));
+  c.add("bytes_elements", num(get(it.bytes, "elements")));
+  c.add("bytes_links", num(get(it.bytes, "links")));
+  c.add("bytes_total", num(sum(it.bytes)));
+  c.add("peak_rss_bytes", num(it.peak_rss_bytes));
+  c.add("tasks", num(it.tasks));
+  c.add("scheduler_ops", num(it.scheduler_ops));
+  c.add("steals", num(it.steals));
+  c.add("idle_s", num(it.idle_s));
+  c.add("lock_wait_scheduler_s", num(get(it.lock_wait_s, "scheduler")));
+  c.add("lock_wait_element_s", num(get(it.lock_wait_s, "element")));
+  c.add("lock_wait_link_s", num(get(it.lock_wait_s, "link")));
+  c.add("lock_wait_total_s", num(sum(it.lock_wait_s)));
+  c.add("peak_parallelism", num(it.peak_parallelism));
+  c.add("local_access_ratio", num(it.local_access_ratio));
+  c.add("rays_cast", num(it.rays_cast));
+  c.add("rays_skipped", num(it.rays_skipped));
+  c.add("gather_sweeps", num(it.gather_sweeps));
+  c.add("max_change", num(it.max_change));
+}
+
+void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
+                 const AccuracyFigures* accuracy) {
+  double propagate = 0, idle = 0;
+  std::map<std::string, double> lock;
+  std::uint64_t created = 0, tasks = 0, ops = 0, steals = 0, local = 0, located = 0;
+  int peak_par = 0, sweeps = 0;
+  for (const IterationStats& it : stats.iterations) {
+    propagate += it.propagate_wall_s;
+    idle += it.idle_s;
+    for (const auto& [cls, s] : it.lock_wait_s) lock[cls] += s;
+    created += it.links_created;
+    tasks += it.tasks;
+    ops += it.scheduler_ops;
+    steals += it.steals;
+    peak_par = std::max(peak_par, it.peak_parallelism);
+    for (const RefinerStats& rs : it.refiners) {
+      local += rs.tasks_local;
+      located += rs.tasks_local + rs.tasks_remote;
+    }
+    sweeps += it.gather_sweeps;
+  }
+  const RunTotals& t = stats.totals;
+  static const IterationStats kNone;
+  const IterationStats& last = stats.iterations.empty() ? kNone : stats.iterations.back();
+  const auto probe = [accuracy](double AccuracyFigures::*f) {
+    return accuracy ? num(accuracy->*f) : std::string();
+  };
+  c.add("wall_s", num(t.wall_s));
+  c.add("refine_wall_s", num(t.refine_wall_s));
+  c.add("refine_cpu_s", num(t.refine_cpu_s));
+  c.add("propagate_wall_s", num(propagate));
+  c.add("links", num(t.links));
+  c.add("elements", num(t.elements));
+  c.add("links_created", num(created));
+  c.add("rays_cast", num(t.rays_cast));
+  c.add("rays_skipped", num(t.rays_skipped));
+  c.add("peak_rss_bytes", num(t.peak_rss_bytes));
+  c.add("bytes_elements", num(get(last.bytes, "elements")));
+  c.add("bytes_links", num(get(last.bytes, "links")));
+  c.add("bytes_total", num(sum(last.bytes)));
+  c.add("tasks", num(tasks));
+  c.add("scheduler_ops", num(ops));
+  c.add("steals", num(steals));
+  c.add("idle_s", num(idle));
+  c.add("lock_wait_scheduler_s", num(get(lock, "scheduler")));
+  c.add("lock_wait_element_s", num(get(lock, "element")));
+  c.add("lock_wait_link_s", num(get(lock, "link")));
+  c.add("lock_wait_total_s", num(sum(lock)));
+  c.add("peak_parallelism", num(peak_par));
+  c.add("local_access_ratio",
+        located == 0 ? std::string() : num(static_cast<double>(local) / static_cast<double>(located)));
+  c.add("gather_sweeps", num(sweeps));
+  c.add("iterations_run", num(static_cast<int>(stats.iterations.size())));
+  c.add("started_at", started_at);
+  c.add("probe_err_mean", probe(&AccuracyFigures::mean));
+  c.add("probe_err_max", probe(&AccuracyFigures::max));
+  c.add("probe_err_rms", probe(&AccuracyFigures::rms));
+  c.add("probe_s", probe(&AccuracyFigures::probe_s));
+}
+
 }  // namespace
 
 const std::vector<std::string>& run_columns() {
   static const std::vector<std::string> columns = [] {
     std::vector<std::string> c = with_identity_and_options();
-    c.insert(c.end(), std::begin(kRunFigures), std::end(kRunFigures));
+    Cells cells(&c);
+    run_figures(cells, RunStats{}, "", nullptr);
     return c;
   }();
   return columns;
@@ -74,8 +163,8 @@ const std::vector<std::string>& run_columns() {
 const std::vector<std::string>& iteration_columns() {
   static const std::vector<std::string> columns = [] {
     std::vector<std::string> c = with_identity_and_options();
-    c.push_back("iteration");
-    c.insert(c.end(), std::begin(kIterationFigures), std::end(kIterationFigures));
+    Cells cells(&c);
+    iteration_figures(cells, IterationStats{});
     return c;
   }();
   return columns;
@@ -92,88 +181,19 @@ RunRows make_run_rows(const std::string& config_name, const SweepPoint& point, i
                       const AccuracyFigures* accuracy) {
   RunRows out;
   const Row prefix = identity_and_options(config_name, point, repetition);
-
-  double propagate = 0, idle = 0, lock_total = 0;
-  std::map<std::string, double> lock;
-  std::uint64_t created = 0, tasks = 0, ops = 0, steals = 0, local = 0, located = 0;
-  int peak_par = 0, sweeps = 0;
   for (const IterationStats& it : stats.iterations) {
+    Cells c;
+    iteration_figures(c, it);
     Row r = prefix;
-    const double it_lock_total = sum(it.lock_wait_s);
-    r.push_back(num(it.iteration));
-    r.push_back(num(it.refine_wall_s));
-    r.push_back(num(it.refine_cpu_s));
-    r.push_back(num(it.propagate_wall_s));
-    r.push_back(num(it.links_created));
-    r.push_back(num(it.links));
-    r.push_back(num(it.elements));
-    r.push_back(num(get(it.bytes, "elements")));
-    r.push_back(num(get(it.bytes, "links")));
-    r.push_back(num(sum(it.bytes)));
-    r.push_back(num(it.peak_rss_bytes));
-    r.push_back(num(it.tasks));
-    r.push_back(num(it.scheduler_ops));
-    r.push_back(num(it.steals));
-    r.push_back(num(it.idle_s));
-    for (const char* cls : kLockClasses) r.push_back(num(get(it.lock_wait_s, cls)));
-    r.push_back(num(it_lock_total));
-    r.push_back(num(it.peak_parallelism));
-    r.push_back(num(it.local_access_ratio));
-    r.push_back(num(it.rays_cast));
-    r.push_back(num(it.rays_skipped));
-    r.push_back(num(it.gather_sweeps));
-    r.push_back(num(it.max_change));
+    const Row figures = c.take();
+    r.insert(r.end(), figures.begin(), figures.end());
     out.iterations.push_back(std::move(r));
-
-    propagate += it.propagate_wall_s;
-    idle += it.idle_s;
-    lock_total += it_lock_total;
-    for (const char* cls : kLockClasses) lock[cls] += get(it.lock_wait_s, cls);
-    created += it.links_created;
-    tasks += it.tasks;
-    ops += it.scheduler_ops;
-    steals += it.steals;
-    peak_par = std::max(peak_par, it.peak_parallelism);
-    for (const RefinerStats& rs : it.refiners) {
-      local += rs.tasks_local;
-      located += rs.tasks_local + rs.tasks_remote;
-    }
-    sweeps += it.gather_sweeps;
   }
-
-  const RunTotals& t = stats.totals;
-  static const IterationStats kNone;
-  const IterationStats& last = stats.iterations.empty() ? kNone : stats.iterations.back();
-  Row r = prefix;
-  r.push_back(num(t.wall_s));
-  r.push_back(num(t.refine_wall_s));
-  r.push_back(num(t.refine_cpu_s));
-  r.push_back(num(propagate));
-  r.push_back(num(t.links));
-  r.push_back(num(t.elements));
-  r.push_back(num(created));
-  r.push_back(num(t.rays_cast));
-  r.push_back(num(t.rays_skipped));
-  r.push_back(num(t.peak_rss_bytes));
-  r.push_back(num(get(last.bytes, "elements")));
-  r.push_back(num(get(last.bytes, "links")));
-  r.push_back(num(sum(last.bytes)));
-  r.push_back(num(tasks));
-  r.push_back(num(ops));
-  r.push_back(num(steals));
-  r.push_back(num(idle));
-  for (const char* cls : kLockClasses) r.push_back(num(lock[cls]));
-  r.push_back(num(lock_total));
-  r.push_back(num(peak_par));
-  r.push_back(located == 0 ? std::string() : num(static_cast<double>(local) / static_cast<double>(located)));
-  r.push_back(num(sweeps));
-  r.push_back(num(static_cast<int>(stats.iterations.size())));
-  r.push_back(started_at);
-  r.push_back(accuracy ? num(accuracy->mean) : std::string());
-  r.push_back(accuracy ? num(accuracy->max) : std::string());
-  r.push_back(accuracy ? num(accuracy->rms) : std::string());
-  r.push_back(accuracy ? num(accuracy->probe_s) : std::string());
-  out.run = std::move(r);
+  Cells c;
+  run_figures(c, stats, started_at, accuracy);
+  out.run = prefix;
+  const Row figures = c.take();
+  out.run.insert(out.run.end(), figures.begin(), figures.end());
   return out;
 }
 
