@@ -78,7 +78,10 @@ class Refiner {
     plan_ = plan;
   }
 
-  /// Runs one refinement stage from `initial` tasks to completion.
+  /// Runs one refinement stage from `initial` tasks to completion. No element may
+  /// hold links when it starts (the first stage, or after reload_links): each list is
+  /// compacted by the refiner that stored its first link in the stage, so a list that
+  /// already held links would keep staging blocks that the next stage reuses.
   /// With `trace_iteration` > 0, records every task (core/trace.h) under that
   /// iteration number.
   RefineCounters run(IScheduler& scheduler, std::vector<Task> initial, int threads,
