@@ -6,6 +6,7 @@
 #include "experiments/harness/csv.h"
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/run_rows.h"
+#include "tests/experiment_test_util.h"
 #include "tests/read_text.h"
 
 #include <fmt/format.h>
@@ -35,15 +36,11 @@ std::string error_of(const std::string& text) {
 }
 
 using test::read_text;
+using Folder = test::ScratchFolder;
 
-struct Folder {
-  fs::path path;
-  explicit Folder(const char* name)
-      : path(fs::temp_directory_path() / (name + std::string("-") + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-  }
-  ~Folder() { fs::remove_all(path); }
-};
+ManifestInputs inputs_for(const ExperimentConfig& c, std::size_t points) {
+  return test::manifest_inputs_for(c, points, "acc-test.json");
+}
 
 TEST(ExperimentAccuracy, BlockParsesBothForms) {
   const ExperimentConfig one = parse_experiment_config(ojson::parse(R"({
@@ -149,17 +146,6 @@ ExperimentConfig cornell_config(const std::string& probes) {
     "sweep": {"eps": [0.01, 0.001]},
     "accuracy": {"probes": ")" + probes + R"(", "reference_rel_error": 0.03}})"),
                                  "acc-test.json");
-}
-
-ManifestInputs inputs_for(const ExperimentConfig& c, std::size_t points) {
-  ManifestInputs in;
-  in.config = c;
-  in.config_file = "acc-test.json";
-  in.command_line = {"hrad", "experiment", "acc-test.json"};
-  in.version = "test";
-  in.git_revision = "abc";
-  in.points = static_cast<int>(points);
-  return in;
 }
 
 std::vector<Row> data_rows(const fs::path& file) {

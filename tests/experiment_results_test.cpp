@@ -3,6 +3,7 @@
 // is cleaned up so that exactly the finished runs remain.
 #include "experiments/harness/csv.h"
 #include "experiments/harness/result_files.h"
+#include "tests/experiment_test_util.h"
 #include "tests/read_text.h"
 
 #include <gtest/gtest.h>
@@ -19,14 +20,8 @@ namespace fs = std::filesystem;
 
 using test::read_text;
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const char* name)
-      : path(fs::temp_directory_path() / (name + std::string("-") + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
+struct TempDir : test::ScratchFolder {
+  explicit TempDir(const char* name) : ScratchFolder(name, true) {}
 };
 
 TEST(ExperimentCsv, QuotesOnlyWhenNeeded) {

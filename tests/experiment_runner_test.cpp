@@ -6,6 +6,7 @@
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/result_files.h"
 #include "experiments/harness/run_rows.h"
+#include "tests/experiment_test_util.h"
 #include "tests/read_text.h"
 
 #include <gtest/gtest.h>
@@ -24,6 +25,11 @@ namespace {
 namespace fs = std::filesystem;
 
 using test::read_text;
+using Folder = test::ScratchFolder;
+
+ManifestInputs inputs_for(const ExperimentConfig& c, std::size_t points) {
+  return test::manifest_inputs_for(c, points, "runner-test.json");
+}
 
 ExperimentConfig small_config() {
   return parse_experiment_config(nlohmann::ordered_json::parse(R"({
@@ -33,27 +39,6 @@ ExperimentConfig small_config() {
     "repetitions": 2})"),
                                  "runner-test.json");
 }
-
-ManifestInputs inputs_for(const ExperimentConfig& c, std::size_t points) {
-  ManifestInputs in;
-  in.config = c;
-  in.config_file = "runner-test.json";
-  in.command_line = {"hrad", "experiment", "runner-test.json"};
-  in.version = "test";
-  in.git_revision = "abc";
-  in.points = static_cast<int>(points);
-  return in;
-}
-
-struct Folder {
-  fs::path path;
-  // The pid keeps concurrent test runs (other build folders) apart.
-  explicit Folder(const char* name)
-      : path(fs::temp_directory_path() / (name + std::string("-") + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-  }
-  ~Folder() { fs::remove_all(path); }
-};
 
 std::vector<Row> data_rows(const fs::path& file) {
   CsvText t = parse_csv(read_text(file));
