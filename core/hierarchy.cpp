@@ -311,24 +311,17 @@ std::size_t Hierarchy::element_count() const {
   return n;
 }
 
-namespace {
-void add_to(std::vector<std::uint64_t>& total, const std::vector<std::uint64_t>& b) {
-  total.resize(std::max(total.size(), b.size()), 0);
-  for (std::size_t n = 0; n < b.size(); ++n) total[n] += b[n];
-}
-}  // namespace
-
 std::vector<std::uint64_t> Hierarchy::element_bytes_per_node() const {
   std::vector<std::uint64_t> total;
-  for (const auto& a : arenas_) add_to(total, a->memory.bytes_per_node());
+  for (const auto& a : arenas_) add_bytes_per_node(total, a->memory.bytes_per_node());
   return total;
 }
 
 std::vector<std::uint64_t> Hierarchy::link_bytes_per_node() const {
   std::vector<std::uint64_t> total;
   for (const auto& a : arenas_) {
-    add_to(total, a->links.bytes_per_node());
-    add_to(total, a->staging.bytes_per_node());
+    add_bytes_per_node(total, a->links.bytes_per_node());
+    add_bytes_per_node(total, a->staging.bytes_per_node());
   }
   return total;
 }

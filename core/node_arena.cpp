@@ -17,6 +17,11 @@ MemBind parse_placement(const std::string& name) {
       "placement: unknown policy \"{}\" (allowed: first-touch, interleave, node0)", name));
 }
 
+void add_bytes_per_node(std::vector<std::uint64_t>& total, const std::vector<std::uint64_t>& more) {
+  total.resize(std::max(total.size(), more.size()), 0);
+  for (std::size_t n = 0; n < more.size(); ++n) total[n] += more[n];
+}
+
 NodeArena::NodeArena(int owner, const ArenaPlacement& placement)
     : owner_(owner),
       node_(owner >= 0 && static_cast<std::size_t>(owner) < placement.owner_node.size()

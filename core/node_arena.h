@@ -43,6 +43,9 @@ struct ArenaPlacement {
   const Topology* topology = nullptr;  ///< binds interleave/node0 chunks; null: bookkeeping only
 };
 
+/// Adds per-node byte counts `more` into `total` (growing it to the longer size).
+void add_bytes_per_node(std::vector<std::uint64_t>& total, const std::vector<std::uint64_t>& more);
+
 /// "first-touch", "interleave", "node0"; throws std::invalid_argument otherwise.
 [[nodiscard]] MemBind parse_placement(const std::string& name);
 

@@ -62,9 +62,7 @@ void record_numa_stats(IterationStats& is, const RefineCounters& rc, const PinPl
   is.element_bytes_per_node = hierarchy.element_bytes_per_node();
   is.link_bytes_per_node = hierarchy.link_bytes_per_node();
   is.bytes_per_node = is.element_bytes_per_node;
-  is.bytes_per_node.resize(std::max(is.bytes_per_node.size(), is.link_bytes_per_node.size()), 0);
-  for (std::size_t n = 0; n < is.link_bytes_per_node.size(); ++n)
-    is.bytes_per_node[n] += is.link_bytes_per_node[n];
+  add_bytes_per_node(is.bytes_per_node, is.link_bytes_per_node);
 
   if (topology.info().synthetic) return;  // the pages are not on that machine's nodes
   IterationStats::PlacementCheck& pc = is.placement_check;
