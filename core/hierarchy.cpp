@@ -19,7 +19,8 @@ std::uint64_t child_id(std::uint64_t parent, std::uint32_t index) {
 // Per-worker arenas: blocks of elements in `memory`, never moved, destroyed with
 // the hierarchy; link blocks as stored in `staging`, reset once compacted into
 // `links`, which release_links() resets.
-struct Hierarchy::Arena {
+// Each worker's arenas on lines of their own (allocation writes their cursors).
+struct alignas(64) Hierarchy::Arena {
   Arena(int worker, const ArenaPlacement& placement)
       : memory(worker, placement), links(worker, placement), staging(worker, placement) {}
   NodeArena memory;
@@ -27,7 +28,6 @@ struct Hierarchy::Arena {
   NodeArena staging;
   std::vector<std::span<Element>> blocks;
   std::size_t elements = 0;
-  char pad[64];
 };
 
 Element* Hierarchy::allocate(std::size_t count, int worker) {

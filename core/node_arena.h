@@ -90,7 +90,9 @@ class NodeArena {
   [[nodiscard]] BindOutcome binding() const { return binding_; }
 
  private:
-  struct Chunk {
+  // A line each: the current chunk's `used` is written on every allocation, and the
+  // vector's buffer must not share a line with memory another thread writes.
+  struct alignas(64) Chunk {
     std::byte* base;
     std::size_t size;
     std::size_t used;

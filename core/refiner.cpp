@@ -1,6 +1,8 @@
 #include "core/refiner.h"
 
+#include "core/clock.h"
 #include "core/hierarchy.h"
+#include "core/timed_lock.h"
 #include "core/transport.h"
 
 #include <omp.h>
@@ -15,12 +17,8 @@
 namespace hrad {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-/// Initial tasks the solver thread submits per scheduler call.
+/// Initial tasks a refiner loads into the scheduler per call.
 constexpr std::size_t kLoadChunk = 4096;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 }  // namespace
 
 struct alignas(64) Refiner::Worker {
@@ -44,8 +42,15 @@ struct alignas(64) Refiner::Worker {
 // receiver's links during a refinement stage. The refiner's last call waits.
 void Refiner::store_links(Worker& w, bool wait) {
   auto& a = w.accepted;
-  std::stable_sort(a.begin(), a.end(),
-                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  // Group by receiver, keeping each receiver's links in acceptance order. A block's
+  // list is short, and stable_sort would allocate a buffer on every call.
+  const auto by_receiver = [](const auto& x, const auto& y) { return x.first < y.first; };
+  if (a.size() <= 64) {
+    for (std::size_t i = 1; i < a.size(); ++i)
+      for (std::size_t j = i; j > 0 && by_receiver(a[j], a[j - 1]); --j) std::swap(a[j], a[j - 1]);
+  } else {
+    std::stable_sort(a.begin(), a.end(), by_receiver);
+  }
   std::size_t kept = 0;
   for (std::size_t i = 0; i < a.size();) {
     Element* r = a[i].first;
@@ -185,42 +190,85 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   }
 }
 
-RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, int threads,
+namespace {
+
+/// An atomic alone on its cache line(s): the driver's shared counters are written by
+/// every refiner, and must not drag the lines of anything else with them.
+template <class T>
+struct alignas(64) PaddedAtomic {
+  std::atomic<T> v;
+  explicit PaddedAtomic(T x) : v(x) {}
+};
+
+/// How an idle refiner waits before asking the scheduler again: first a few pause
+/// loops (work usually appears within microseconds, and asking again at once would
+/// only take the scheduler's lock from the refiner about to submit), then yields,
+/// then short sleeps, so that a refiner with nothing to do stops competing for a
+/// core (with the solver thread, or another process) once it has waited about a
+/// millisecond.
+void idle_backoff(int round) {
+  if (round < 10) {
+    for (int i = 0; i < (1 << round); ++i) cpu_relax();
+  } else if (round < 40) {
+    std::this_thread::yield();
+  } else {
+    std::this_thread::sleep_for(std::chrono::microseconds(50));
+  }
+}
+
+}  // namespace
+
+RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int threads,
                             int block_size, int trace_iteration) {
   const bool tracing = trace_iteration > 0;
   for (std::size_t i = 0; i < initial.size(); ++i)
     initial[i].id = (static_cast<std::uint64_t>(trace_iteration) << 40) | i;
   const auto stage_start = Clock::now();
-  // `pending` starts at the whole initial load, so it cannot reach zero before the
-  // solver thread has submitted every initial task.
-  std::atomic<std::int64_t> pending{static_cast<std::int64_t>(initial.size())};
-  std::atomic<bool> done{false};
-  std::atomic<int> busy{0};
-  std::atomic<int> peak{0};
+  // `pending` counts tasks submitted (or still to be loaded) and not yet finished. It
+  // starts at the whole initial load, so it cannot reach zero before every initial
+  // task was loaded and finished. Each block changes it once, by (children - block),
+  // before the children are submitted: it stays above zero while any task is queued,
+  // loaded later, or in flight.
+  PaddedAtomic<std::int64_t> pending(static_cast<std::int64_t>(initial.size()));
+  PaddedAtomic<bool> done(false);
+  PaddedAtomic<std::size_t> load_cursor(0);  // next initial task to load
+  PaddedAtomic<int> busy(0);                 // refiners not idle
+  PaddedAtomic<int> peak(0);
   std::vector<Worker> workers(static_cast<std::size_t>(threads));
-  double load_s = 0;  // written by the solver thread, read after it joined
+  const std::span<const Task> all(initial);
 
-  // The solver thread (paper §3.2): loads the initial tasks in chunks while the
-  // refiners already work on the first ones, then sleeps until the last in-flight
-  // task retires (the refiner that brings `pending` to zero wakes it) and tells the
-  // refiners to stop.
+  // Loads the next chunk of initial tasks into the scheduler, as `worker`; false when
+  // every chunk has been taken. Refiners load when they find the scheduler empty, so
+  // loading runs in parallel and only as fast as the work needs it (paper §3.2 has a
+  // solver thread load them; on P cores for P refiners that thread would compete with
+  // the refiners for a core while they wait for it).
+  auto load_more = [&](Worker& w) {
+    if (load_cursor.v.load(std::memory_order_relaxed) >= all.size()) return false;
+    const std::size_t i = load_cursor.v.fetch_add(kLoadChunk, std::memory_order_relaxed);
+    if (i >= all.size()) return false;
+    const auto t0 = Clock::now();
+    scheduler.submit(w.id, all.subspan(i, std::min(kLoadChunk, all.size() - i)));
+    ++w.c.submits;
+    w.c.load_s += seconds_since(t0);
+    return true;
+  };
+
+  // The solver thread (paper §3.2) detects termination: it sleeps until the last
+  // in-flight task retires (the refiner that brings `pending` to zero wakes it) and
+  // tells the refiners to stop.
   std::thread solver([&] {
     if (plan_) (void)bind_thread(topology_, plan_->solver, nullptr);
-    const auto t0 = Clock::now();
-    const std::span<const Task> all(initial);
-    for (std::size_t i = 0; i < all.size(); i += kLoadChunk)
-      scheduler.submit(0, all.subspan(i, std::min(kLoadChunk, all.size() - i)));
-    load_s = seconds_since(t0);
-    for (std::int64_t v = pending.load(std::memory_order_acquire); v != 0;
-         v = pending.load(std::memory_order_acquire))
-      pending.wait(v, std::memory_order_acquire);
-    done.store(true, std::memory_order_release);
+    for (std::int64_t v = pending.v.load(std::memory_order_acquire); v != 0;
+         v = pending.v.load(std::memory_order_acquire))
+      pending.v.wait(v, std::memory_order_acquire);
+    done.v.store(true, std::memory_order_release);
   });
 
 #pragma omp parallel num_threads(threads)
   {
     Worker& w = workers[static_cast<std::size_t>(omp_get_thread_num())];
     w.id = omp_get_thread_num();
+    const double cpu_start = thread_cpu_seconds();
     // OpenMP keeps its threads (this one may be the caller's) for later stages and
     // later runs: a bound refiner gives the thread its CPU set back when the stage
     // ends, so a run without pinning never inherits another's binding.
@@ -236,25 +284,30 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     std::vector<Task> out;
     out.reserve(static_cast<std::size_t>(block_size) * 8);
     Clock::time_point idle_since = Clock::now();
-    bool idle = false;
+    bool idle = true;  // not yet counted in `busy`
+    int idle_round = 0;
     for (;;) {
       const std::size_t n = scheduler.take(w.id, block);
       if (n == 0) {
-        if (done.load(std::memory_order_acquire)) break;
+        if (load_more(w)) continue;
+        if (done.v.load(std::memory_order_acquire)) break;
         if (!idle) {
           idle = true;
           idle_since = Clock::now();
+          busy.v.fetch_sub(1, std::memory_order_relaxed);
         }
-        std::this_thread::yield();
+        idle_backoff(idle_round++);
         continue;
       }
       if (idle) {
+        // Only the idle -> busy transitions touch the shared counters.
         w.c.idle_s += seconds_since(idle_since);
         idle = false;
-      }
-      const int now_busy = busy.fetch_add(1, std::memory_order_relaxed) + 1;
-      int seen = peak.load(std::memory_order_relaxed);
-      while (now_busy > seen && !peak.compare_exchange_weak(seen, now_busy)) {
+        idle_round = 0;
+        const int now_busy = busy.v.fetch_add(1, std::memory_order_relaxed) + 1;
+        int seen = peak.v.load(std::memory_order_relaxed);
+        while (now_busy > seen && !peak.v.compare_exchange_weak(seen, now_busy)) {
+        }
       }
       const auto t0 = Clock::now();
       if (tracing) {
@@ -282,17 +335,17 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
       }
       store_links(w, false);
       ++w.c.takes;
+      // One update of the shared count per block: the children are counted before
+      // anyone can see them, and the block retires in the same step.
+      const auto delta = static_cast<std::int64_t>(out.size()) - static_cast<std::int64_t>(n);
+      const bool last = pending.v.fetch_add(delta, std::memory_order_acq_rel) + delta == 0;
       if (!out.empty()) {
-        pending.fetch_add(static_cast<std::int64_t>(out.size()), std::memory_order_acq_rel);
         ++w.c.submits;
         scheduler.submit(w.id, out);
         out.clear();
       }
       w.c.busy_s += seconds_since(t0);
-      busy.fetch_sub(1, std::memory_order_relaxed);
-      if (pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel) ==
-          static_cast<std::int64_t>(n))
-        pending.notify_one();  // the last task retired: wake the solver thread
+      if (last) pending.v.notify_one();  // the last task retired: wake the solver thread
     }
     store_links(w, true);  // whatever a busy lock made it defer
     if (idle) w.c.idle_s += seconds_since(idle_since);
@@ -305,6 +358,8 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     for (Element* r : w.started) hierarchy_.compact_links(*r, w.id);
     hierarchy_.reset_link_staging(w.id);
     w.c.compact_s = seconds_since(compact_start);
+    w.c.link_bytes = hierarchy_.link_arena(w.id).bytes_used();
+    w.c.cpu_s = thread_cpu_seconds() - cpu_start;
   }
   solver.join();
 
@@ -318,37 +373,42 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::vector<Task> initial, in
     total.rays_skipped += w.c.rays_skipped;
     total.busy_s += w.c.busy_s;
     total.idle_s += w.c.idle_s;
+    total.cpu_s += w.c.cpu_s;
+    total.load_s += w.c.load_s;
+    total.link_bytes += w.c.link_bytes;
     total.compact_s = std::max(total.compact_s, w.c.compact_s);
     total.takes += w.c.takes;
     total.submits += w.c.submits;
     total.per_worker.push_back(w.c);
     total.trace.insert(total.trace.end(), w.trace.begin(), w.trace.end());
   }
-  total.peak_parallelism = peak.load();
-  total.load_s = load_s;
+  total.peak_parallelism = peak.v.load();
   return total;
 }
 
-std::vector<Task> Refiner::reload_links(Hierarchy& hierarchy,
-                                       const std::vector<Element*>& elements) {
-  std::size_t n = 0;
-  for (const Element* e : elements) n += e->links.size();
-  std::vector<Task> tasks;
-  tasks.reserve(n);
-  for (Element* e : elements) {
+void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements,
+                           int threads, std::vector<Task>& tasks) {
+  // Each element's tasks go to a fixed place (a prefix sum of the link counts), so
+  // the list is the same whatever the thread count, and is filled in parallel.
+  const auto n = static_cast<std::ptrdiff_t>(elements.size());
+  std::vector<std::size_t> first(elements.size() + 1, 0);
+  for (std::size_t i = 0; i < elements.size(); ++i) first[i + 1] = first[i] + elements[i]->links.size();
+  tasks.resize(first.back());  // only a longer list constructs (serially) its new tail
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1024) if (first.back() > 65536)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Element* e = elements[static_cast<std::size_t>(i)];
+    Task* t = tasks.data() + first[static_cast<std::size_t>(i)];
     for (const Link& l : e->links) {
-      Task t;
-      t.receiver = e;
-      t.source = l.source;
-      t.form_factor = l.form_factor;
-      t.visibility = l.visibility;
-      t.priority = static_cast<float>(reflected_power_scale(*e, *l.source) * l.form_factor);
-      t.evaluated = true;
-      tasks.push_back(t);
+      t->receiver = e;
+      t->source = l.source;
+      t->form_factor = l.form_factor;
+      t->visibility = l.visibility;
+      t->priority = static_cast<float>(reflected_power_scale(*e, *l.source) * l.form_factor);
+      t->evaluated = true;
+      ++t;
     }
   }
   hierarchy.release_links(elements);
-  return tasks;
 }
 
 }  // namespace hrad

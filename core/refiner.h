@@ -5,13 +5,15 @@
 // a refiner creates are buffered and submitted after its block (the paper's
 // blocking, §3.5; with block size 1 this is plain task-at-a-time scheduling).
 //
-// A solver thread runs beside the refiners (paper §3.2): it loads the iteration's
-// initial tasks (every existing link) into the scheduler while refiners start on
-// them, and detects termination. `pending` counts tasks submitted and not yet
-// finished; it starts at the whole initial load, and a refiner submits a block's
-// children before retiring the block, so pending reaches zero only when no task is
-// queued and none is in flight. The refiner that brings it to zero wakes the solver
-// thread, which tells the refiners to stop.
+// The iteration's initial tasks (every existing link) are loaded into the scheduler
+// in chunks by the refiners themselves, by whichever finds the scheduler empty, so
+// the load runs in parallel and on demand. A solver thread runs beside the refiners
+// (paper §3.2) and detects termination: `pending` counts tasks submitted or still to
+// be loaded and not yet finished; it starts at the whole initial load, and a refiner
+// counts a block's children (and retires the block) in one update before it submits
+// them, so pending reaches zero only when no task is queued, left to load or in
+// flight. The refiner that brings it to zero wakes the solver thread, which tells the
+// refiners to stop (the solver thread sleeps meanwhile: it takes no core).
 #pragma once
 
 #include "core/element.h"
@@ -22,6 +24,7 @@
 #include "schedulers/scheduler.h"
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -43,10 +46,14 @@ struct RefineCounters {
   std::uint64_t culled = 0;         ///< pairs that cannot exchange light
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;   ///< rays not cast thanks to culling
-  double busy_s = 0;                ///< summed over refiners
+  double busy_s = 0;                ///< summed over refiners: wall time refining blocks
   double idle_s = 0;                ///< summed over refiners: waiting for tasks
+  /// Summed over refiners: CPU time of the refiner's thread over the whole stage
+  /// (its own clock, core/clock.h), which stops while the thread waits for a core.
+  double cpu_s = 0;
   int peak_parallelism = 0;         ///< most refiners busy at once
-  double load_s = 0;                ///< solver thread: time to submit the initial tasks
+  double load_s = 0;                ///< summed over refiners: time loading initial tasks
+  std::uint64_t link_bytes = 0;     ///< bytes in the refiner's link arena after compaction
   /// Time to compact the stage's link lists (core/link_list.h) after the last task:
   /// per refiner, and in the total the longest.
   double compact_s = 0;
@@ -84,15 +91,19 @@ class Refiner {
   /// already held links would keep staging blocks that the next stage reuses.
   /// With `trace_iteration` > 0, records every task (core/trace.h) under that
   /// iteration number.
-  RefineCounters run(IScheduler& scheduler, std::vector<Task> initial, int threads,
+  /// `initial` is read (and its trace ids set) in place; the caller keeps it.
+  RefineCounters run(IScheduler& scheduler, std::span<Task> initial, int threads,
                      int block_size, int trace_iteration = 0);
 
   /// Tasks for the next iteration: every stored link, removed from its receiver
   /// (call between stages only; `elements` must be all of the hierarchy's, and the
   /// link memory is handed out again, see Hierarchy::release_links). Reloaded tasks
-  /// carry their F and visibility.
-  static std::vector<Task> reload_links(Hierarchy& hierarchy,
-                                        const std::vector<Element*>& elements);
+  /// carry their F and visibility. Built on `threads` threads, in the same order for
+  /// any thread count: elements in the given order, each one's links in list order.
+  /// `tasks` is resized to the link count and overwritten: pass the previous
+  /// iteration's vector, so that its memory (and its pages) are reused.
+  static void reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements,
+                           int threads, std::vector<Task>& tasks);
 
  private:
   struct Worker;

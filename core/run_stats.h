@@ -27,12 +27,21 @@ struct RefinerStats {
   std::string bound = "none";    ///< "none", "applied", "planned" (synthetic topology), "failed"
   std::uint64_t tasks_local = 0;   ///< tasks whose receiver's memory is on `node`
   std::uint64_t tasks_remote = 0;  ///< tasks whose receiver's memory is on another node
+  /// CPU time of the refiner's thread over the stage (its own clock): below the
+  /// stage's wall time when the thread waited for a core.
+  double cpu_s = 0;
+  std::uint64_t link_bytes = 0;  ///< bytes of the lists this refiner compacted (its link arena)
 };
 
 struct IterationStats {
   int iteration = 0;             ///< 1-based
   double refine_wall_s = 0;      ///< wall time of the refinement stage
   double refine_cpu_s = 0;       ///< busy time summed over refiners (paper, Figure 4)
+  /// CPU time of the refiners' threads summed (their own clocks, whole stage).
+  double refine_thread_cpu_s = 0;
+  /// refine_thread_cpu_s per task, in nanoseconds (0 without tasks): the per-task
+  /// cost to compare between thread counts.
+  double task_cpu_ns = 0;
   double propagate_wall_s = 0;   ///< wall time of gather + push-pull
   std::uint64_t links_created = 0;  ///< links created in this iteration (not re-accepted ones)
   std::uint64_t links = 0;          ///< links alive at the end of the iteration
@@ -44,7 +53,10 @@ struct IterationStats {
   std::map<std::string, double> lock_wait_s;  ///< by lock class: "scheduler", "element", "link"
   double idle_s = 0;                ///< refiner time spent waiting for tasks
   int peak_parallelism = 0;         ///< most refiners busy at the same moment
-  double load_s = 0;                ///< solver thread: time to load the initial tasks
+  /// Time to build the initial tasks from the previous iteration's links (in
+  /// parallel, before the stage; included in refine_wall_s) plus the refiners' time
+  /// submitting them to the scheduler.
+  double load_s = 0;
   double link_compact_s = 0;        ///< end of the stage: longest refiner's link compaction
   std::uint64_t steals = 0;         ///< tasks taken from another refiner's queue
   std::vector<RefinerStats> refiners;  ///< per refiner, by OpenMP thread number
@@ -81,6 +93,8 @@ struct RunTotals {
   std::uint64_t rays_skipped = 0;
   std::uint64_t peak_rss_bytes = 0;
   int iterations_run = 0;  ///< refinement iterations run (fewer than asked when stopped early)
+  double refine_thread_cpu_s = 0;  ///< summed over iterations (see IterationStats)
+  double task_cpu_ns = 0;          ///< refine_thread_cpu_s per task over all iterations
 };
 
 struct RunStats {

@@ -1,5 +1,6 @@
 #include "core/solver.h"
 
+#include "core/clock.h"
 #include "core/effects.h"
 #include "core/form_factor.h"
 #include "core/hierarchy.h"
@@ -28,8 +29,7 @@
 namespace hrad {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double since(Clock::time_point t0) { return seconds_since(t0); }
 
 /// Leaf surface elements (those without children), depth first: the solution's
 /// finest mesh.
@@ -47,6 +47,26 @@ std::vector<const Element*> leaf_surfaces(const Element& root) {
     }
   }
   return leaves;
+}
+
+// A refiner whose thread ran on a CPU for much less than the stage lasted waited
+// for a core: more runnable threads than cores (other processes, or a CPU set that
+// puts two refiners on one core). Its per-task wall times, and the speed-up, then
+// measure the sharing, not the code. Only stages long enough to tell (50 ms).
+void warn_if_descheduled(const IterationStats& is, std::vector<std::string>& warnings) {
+  if (is.refiners.size() < 2 || is.refine_wall_s < 0.05) return;
+  for (std::size_t i = 0; i < is.refiners.size(); ++i) {
+    const RefinerStats& r = is.refiners[i];
+    const double stage = r.busy_s + r.idle_s;
+    if (stage > 0.05 && r.cpu_s < 0.8 * stage) {
+      warnings.push_back(fmt::format(
+          "iteration {}: refiner {} ran on a CPU for {:.0f}% of the stage ({:.3f} of {:.3f} s): "
+          "threads waited for a core (more runnable threads than cores?), so its timings "
+          "measure the sharing",
+          is.iteration, i, 100 * r.cpu_s / stage, r.cpu_s, stage));
+      return;
+    }
+  }
 }
 
 // The cluster tree is built by the calling thread into refiner 0's arena, so the
@@ -139,6 +159,7 @@ RunStats Solver::run() {
                                      "refined or propagated");
   std::vector<TraceRecord> trace;
   std::vector<Task> tasks;
+  double reload_s = 0;  // building this iteration's tasks (counted in its refinement)
   if (solve) tasks.push_back(Task{&m.hierarchy.root(), &m.hierarchy.root()});
   // Interreflection off (every reflectance 0): one sweep gives B = E exactly.
   const int max_sweeps = m.effects.interreflection.on ? o.max_gather_sweeps : 1;
@@ -153,15 +174,17 @@ RunStats Solver::run() {
     link_locks.reset_counters();
     auto scheduler = make_scheduler(o.scheduler, sched_config);
     auto t0 = Clock::now();
-    RefineCounters rc = refiner.run(*scheduler, std::move(tasks), o.threads, o.block_size,
+    RefineCounters rc = refiner.run(*scheduler, tasks, o.threads, o.block_size,
                                     o.trace.empty() ? 0 : it);
     if (!o.trace.empty()) trace.insert(trace.end(), rc.trace.begin(), rc.trace.end());
-    is.refine_wall_s = since(t0);
-    tasks.clear();
+    // The stage includes building its tasks from the previous iteration's links.
+    is.refine_wall_s = since(t0) + reload_s;
     is.refine_cpu_s = rc.busy_s;
+    is.refine_thread_cpu_s = rc.cpu_s;
+    is.task_cpu_ns = rc.tasks > 0 ? 1e9 * rc.cpu_s / static_cast<double>(rc.tasks) : 0.0;
     is.idle_s = rc.idle_s;
     is.peak_parallelism = rc.peak_parallelism;
-    is.load_s = rc.load_s;
+    is.load_s = rc.load_s + reload_s;
     is.link_compact_s = rc.compact_s;
     is.tasks = rc.tasks;
     is.links_created = rc.links_created;
@@ -170,10 +193,19 @@ RunStats Solver::run() {
     for (std::size_t w = 0; w < rc.per_worker.size(); ++w) {
       const RefineCounters& c = rc.per_worker[w];
       const int id = static_cast<int>(w);
-      is.refiners.push_back(RefinerStats{c.tasks, c.takes, c.submits, c.busy_s, c.idle_s,
-                                         element_locks.wait_seconds(id) + link_locks.wait_seconds(id),
-                                         c.rays_cast});
+      RefinerStats r;
+      r.tasks = c.tasks;
+      r.takes = c.takes;
+      r.submits = c.submits;
+      r.busy_s = c.busy_s;
+      r.idle_s = c.idle_s;
+      r.cpu_s = c.cpu_s;
+      r.link_bytes = c.link_bytes;
+      r.lock_wait_s = element_locks.wait_seconds(id) + link_locks.wait_seconds(id);
+      r.rays_cast = c.rays_cast;
+      is.refiners.push_back(r);
     }
+    warn_if_descheduled(is, stats.warnings);
     record_numa_stats(is, rc, m.plan, m.hierarchy, *m.topology, stats.warnings);
     const SchedulerCounters sc = scheduler->counters();
     is.steals = sc.steals;
@@ -226,7 +258,11 @@ RunStats Solver::run() {
                              it, o.iterations)};
       break;
     }
-    if (it < o.iterations) tasks = Refiner::reload_links(m.hierarchy, elements);
+    if (it < o.iterations) {
+      const auto reload_start = Clock::now();
+      Refiner::reload_links(m.hierarchy, elements, o.threads, tasks);
+      reload_s = since(reload_start);
+    }
   }
   if (!o.trace.empty()) {
     const nlohmann::json header = {
@@ -248,12 +284,16 @@ RunStats Solver::run() {
 
   RunTotals& t = stats.totals;
   t.wall_s = since(run_start);
+  std::uint64_t tasks_run = 0;
   for (const IterationStats& is : stats.iterations) {
     t.refine_wall_s += is.refine_wall_s;
     t.refine_cpu_s += is.refine_cpu_s;
+    t.refine_thread_cpu_s += is.refine_thread_cpu_s;
+    tasks_run += is.tasks;
     t.rays_cast += is.rays_cast;
     t.rays_skipped += is.rays_skipped;
   }
+  t.task_cpu_ns = tasks_run > 0 ? 1e9 * t.refine_thread_cpu_s / static_cast<double>(tasks_run) : 0.0;
   if (!stats.iterations.empty()) {
     t.links = stats.iterations.back().links;
     t.elements = stats.iterations.back().elements;

@@ -8,17 +8,24 @@
 // | block_size | int  | 1       | at most this many tasks per take()             |
 //
 // What differs from `stack` with the same block size is the cost under the lock, not the
-// order. The pool is a stack of *chunks*, one per submit():
+// order. The pool is made of stacks of *chunks*, one chunk per submit():
 //  - submit() copies the batch into a chunk buffer *before* taking the lock; under the
-//    lock it only moves that buffer onto the chunk stack and picks up a recycled buffer
+//    lock it only moves that buffer onto a chunk stack and picks up a recycled buffer
 //    for the thread's next submit: O(1) under the lock whatever the batch size.
-//  - take() copies up to block_size tasks out of the top chunks under the lock (O(block),
+//  - take() copies up to block_size tasks out of chunks under the lock (O(block),
 //    never more); an emptied chunk's buffer goes to a spare list for reuse.
 // Buffers circulate pool -> spare list -> a thread's spare (thread_local) -> pool, so in
 // steady state no allocation happens, under the lock or outside it.
 //
-// Order: LIFO over chunks and newest first inside a chunk, i.e. exactly the order of
-// `stack`: depth-first, like the recursion. A take may span chunks.
+// Order: the central pool keeps one chunk stack per refiner, all under the one lock. A
+// chunk goes on its submitter's stack; a refiner takes from its own stack (LIFO over
+// chunks, newest first inside a chunk: exactly `stack`'s depth-first order, and with
+// one refiner exactly `stack`), and only when its own is empty from the oldest chunk of
+// the next non-empty stack (counted as steals). With a single LIFO shared by all, each
+// refiner took the children the other had just created, on elements the other had just
+// built: every such task's data came from the other core's cache. Measured on the
+// office at 2 threads, block 10, CPU per task rose 27 % over 1 thread that way, and 3 %
+// with this order. The lock, the blocking and their costs are the paper's.
 //
 // The chunk stack itself is schedulers/chunk_stack.h (shared with `locality`).
 //
@@ -46,27 +53,36 @@ std::vector<Task>& thread_spare() {
 class BlockedScheduler final : public IScheduler {
  public:
   explicit BlockedScheduler(const SchedulerConfig& config)
-      : block_size_(static_cast<std::size_t>(config.block_size)), order_(config.pool_order) {}
+      : block_size_(static_cast<std::size_t>(config.block_size)),
+        order_(config.pool_order),
+        stacks_(static_cast<std::size_t>(std::max(config.threads, 1))) {}
 
-  std::size_t take(int /*worker*/, std::span<Task> out) override {
+  std::size_t take(int worker, std::span<Task> out) override {
     const std::size_t want = std::min(out.size(), block_size_);
     std::vector<Task> discard;  // an oversized emptied buffer, freed after unlocking
     std::size_t n = 0;
     {
       std::unique_lock lock = acquire();
-      n = chunks_.pop(out, want, discard);
+      const std::size_t w = slot(worker);
+      n = stacks_[w].pop(out, want, discard);
+      for (std::size_t k = 1; n == 0 && k < stacks_.size(); ++k) {
+        ChunkStack& other = stacks_[(w + k) % stacks_.size()];
+        if (other.empty()) continue;
+        n = other.pop_oldest(out, want, discard);
+        counters_.steals += n;
+      }
       if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
     }
     return n;
   }
 
-  void submit(int /*worker*/, std::span<const Task> tasks) override {
+  void submit(int worker, std::span<const Task> tasks) override {
     if (tasks.empty()) return;
     std::vector<Task>& spare = thread_spare();
     spare.assign(tasks.begin(), tasks.end());  // the copy, outside the lock
     order_batch(spare, order_);
     std::unique_lock lock = acquire();
-    chunks_.push(spare);  // O(1): moves the buffer in, a recycled one out
+    stacks_[slot(worker)].push(spare);  // O(1): moves the buffer in, a recycled one out
     ++counters_.submits;
   }
 
@@ -79,11 +95,14 @@ class BlockedScheduler final : public IScheduler {
  private:
   // counters_ is only written under mutex_, so the wait can be added to it.
   std::unique_lock<std::mutex> acquire() { return timed_lock(mutex_, counters_.lock_wait_s); }
+  [[nodiscard]] std::size_t slot(int worker) const {
+    return static_cast<std::size_t>(worker) % stacks_.size();
+  }
 
   const std::size_t block_size_;
   const PoolOrder order_;
   mutable std::mutex mutex_;
-  ChunkStack chunks_;                      // guarded by mutex_
+  std::vector<ChunkStack> stacks_;         // one per refiner, guarded by mutex_
   SchedulerCounters counters_;             // guarded by mutex_
 };
 

@@ -7,14 +7,17 @@
 //  - pop() copies out up to `want` tasks, newest first (a take may span chunks), in
 //    O(want); an emptied buffer is kept for reuse, or handed to `discard` to be freed
 //    by the caller after unlocking when it is oversized or the spare list is full.
-// Order: LIFO over chunks and newest first inside a chunk, exactly `stack`'s order.
-// Used by `blocked` (one ChunkStack) and `locality` (one per NUMA node).
+// Order: LIFO over chunks and newest first inside a chunk, exactly `stack`'s order;
+// pop_oldest() takes from the bottom chunk instead (for a thief: the oldest work is
+// the largest, and the least recently touched by its owner).
+// Used by `blocked` (one per refiner, under one lock) and `locality` (one per NUMA node).
 #pragma once
 
 #include "schedulers/scheduler.h"
 
 #include <algorithm>
 #include <cstddef>
+#include <deque>
 #include <span>
 #include <utility>
 #include <vector>
@@ -28,10 +31,7 @@ class ChunkStack {
   static constexpr std::size_t kMaxRecycledCapacity = std::size_t{1} << 14;
   static constexpr std::size_t kMaxSpares = 64;
 
-  ChunkStack() {
-    chunks_.reserve(kMaxSpares);
-    spares_.reserve(kMaxSpares);
-  }
+  ChunkStack() { spares_.reserve(kMaxSpares); }
 
   [[nodiscard]] bool empty() const { return chunks_.empty(); }
   [[nodiscard]] std::size_t size() const { return size_; }  ///< tasks held
@@ -49,10 +49,20 @@ class ChunkStack {
 
   /// Copies up to `want` tasks (newest first) into out[0..); returns how many.
   std::size_t pop(std::span<Task> out, std::size_t want, std::vector<Task>& discard) {
+    return pop_from(out, want, discard, false);
+  }
+  /// The same from the bottom chunk up (newest first inside each chunk).
+  std::size_t pop_oldest(std::span<Task> out, std::size_t want, std::vector<Task>& discard) {
+    return pop_from(out, want, discard, true);
+  }
+
+ private:
+  std::size_t pop_from(std::span<Task> out, std::size_t want, std::vector<Task>& discard,
+                       bool oldest) {
     want = std::min(want, out.size());
     std::size_t n = 0;
     while (n < want && !chunks_.empty()) {
-      std::vector<Task>& top = chunks_.back();
+      std::vector<Task>& top = oldest ? chunks_.front() : chunks_.back();
       const std::size_t k = std::min(want - n, top.size());
       std::reverse_copy(top.end() - static_cast<std::ptrdiff_t>(k), top.end(),
                         out.begin() + static_cast<std::ptrdiff_t>(n));
@@ -63,15 +73,14 @@ class ChunkStack {
           spares_.push_back(std::move(top));
         else
           discard.swap(top);  // a previous discard, if any, is freed here (rare)
-        chunks_.pop_back();
+        if (oldest) chunks_.pop_front(); else chunks_.pop_back();
       }
     }
     size_ -= n;
     return n;
   }
 
- private:
-  std::vector<std::vector<Task>> chunks_;  // back() is the top
+  std::deque<std::vector<Task>> chunks_;  // back() is the top
   std::vector<std::vector<Task>> spares_;  // empty, capacity kept
   std::size_t size_ = 0;
 };

@@ -206,13 +206,22 @@ TEST(SolverNuma, SyntheticTwoNodesScatterLocality) {
       EXPECT_EQ(it.refiners[i].bound, "planned");
     }
   }
-  // First touch: refiners on both nodes subdivided and stored links, so both nodes
-  // hold elements and links.
-  const IterationStats& last = got.stats.iterations.back();
-  EXPECT_GT(last.element_bytes_per_node[0], 0u);
-  EXPECT_GT(last.element_bytes_per_node[1], 0u);
-  EXPECT_GT(last.link_bytes_per_node[0], 0u);
-  EXPECT_GT(last.link_bytes_per_node[1], 0u);
+  // First touch: a refiner compacts the lists it started into its own link arena, on
+  // its planned node. Which refiner starts which list depends on timing (with 4
+  // refiners on 2 cores a node's refiners may start none in an iteration), so what is
+  // guaranteed is the bookkeeping: each node holds exactly the link bytes of the
+  // refiners planned on it, and the cluster tree (refiner 0's arena) is on node 0.
+  for (const IterationStats& it : got.stats.iterations) {
+    std::vector<std::uint64_t> by_plan(2, 0);
+    std::uint64_t total = 0;
+    for (const RefinerStats& r : it.refiners) {
+      by_plan[static_cast<std::size_t>(r.node)] += r.link_bytes;
+      total += r.link_bytes;
+    }
+    EXPECT_EQ(it.link_bytes_per_node, by_plan) << "iteration " << it.iteration;
+    EXPECT_GT(total, 0u);
+    EXPECT_GT(it.element_bytes_per_node[0], 0u);
+  }
   const nlohmann::json j = stats_to_json(got.stats);
   const nlohmann::json& it = j["iterations"][0];
   EXPECT_EQ(it["bytes_per_node"].size(), 2u);

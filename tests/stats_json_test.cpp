@@ -35,6 +35,10 @@ RunStats sample_stats() {
     it.max_change = 1e-7;
     it.refiners = {RefinerStats{150, 15, 12, 0.4, 0.01, 0.001, 500},
                    RefinerStats{150, 16, 11, 0.5, 0.04, 0.002, 500}};
+    it.refiners[1].cpu_s = 0.45;
+    it.refiners[1].link_bytes = 4096;
+    it.refine_thread_cpu_s = 0.85 * i;
+    it.task_cpu_ns = 1e9 * it.refine_thread_cpu_s / 300;
     s.iterations.push_back(it);
   }
   s.totals = {2.0, 1.5, 2.7, 300, 80, 2000, 500, 1u << 20};
@@ -74,6 +78,7 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"bytes_per_node", Kind::Array},   {"local_access_ratio", Kind::Number},
       {"element_bytes_per_node", Kind::Array}, {"link_bytes_per_node", Kind::Array},
       {"link_compact_s", Kind::Number}, {"placement_check", Kind::ObjectOrNull},
+      {"refine_thread_cpu_s", Kind::Number}, {"task_cpu_ns", Kind::Number},
   };
   ASSERT_TRUE(j.at("iterations").is_array());
   ASSERT_EQ(j["iterations"].size(), 2u);
@@ -91,6 +96,10 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
   ASSERT_EQ(second["refiners"].size(), 2u);
   EXPECT_EQ(second["refiners"][1]["takes"], 16);
   EXPECT_DOUBLE_EQ(second["refiners"][1]["idle_s"].get<double>(), 0.04);
+  EXPECT_DOUBLE_EQ(second["refiners"][1]["cpu_s"].get<double>(), 0.45);
+  EXPECT_EQ(second["refiners"][1]["link_bytes"], 4096);
+  EXPECT_DOUBLE_EQ(second["refine_thread_cpu_s"].get<double>(), 1.7);
+  EXPECT_DOUBLE_EQ(second["task_cpu_ns"].get<double>(), 1.7e9 / 300);
   EXPECT_EQ(second["refiners"][1]["bound"], "none");  // NUMA fields (README, NUMA studies)
   EXPECT_EQ(second["refiners"][1]["node"], 0);
   EXPECT_EQ(second["refiners"][1]["tasks_local"], 0);
@@ -109,6 +118,7 @@ TEST(StatsJson, TotalsHaveTheDocumentedKeysWithTypes) {
       {"elements", Kind::Integer},     {"rays_cast", Kind::Integer},
       {"rays_skipped", Kind::Integer}, {"peak_rss_bytes", Kind::Integer},
       {"iterations_run", Kind::Integer},
+      {"refine_thread_cpu_s", Kind::Number}, {"task_cpu_ns", Kind::Number},
   };
   for (const auto& [key, kind] : keys) {
     ASSERT_TRUE(t.contains(key)) << key;

@@ -64,6 +64,8 @@ void iteration_figures(Cells& c, const IterationStats& it) {
   c.add("iteration", num(it.iteration));
   c.add("refine_wall_s", num(it.refine_wall_s));
   c.add("refine_cpu_s", num(it.refine_cpu_s));
+  c.add("refine_thread_cpu_s", num(it.refine_thread_cpu_s));
+  c.add("task_cpu_ns", num(it.task_cpu_ns));
   c.add("propagate_wall_s", num(it.propagate_wall_s));
   c.add("links_created", num(it.links_created));
   c.add("links", num(it.links));
@@ -118,6 +120,8 @@ void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
   c.add("wall_s", num(t.wall_s));
   c.add("refine_wall_s", num(t.refine_wall_s));
   c.add("refine_cpu_s", num(t.refine_cpu_s));
+  c.add("refine_thread_cpu_s", num(t.refine_thread_cpu_s));
+  c.add("task_cpu_ns", num(t.task_cpu_ns));
   c.add("propagate_wall_s", num(propagate));
   c.add("links", num(t.links));
   c.add("elements", num(t.elements));
