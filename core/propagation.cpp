@@ -1,5 +1,7 @@
 #include "core/propagation.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -31,6 +33,47 @@ std::vector<std::size_t> level_starts(const std::vector<Element*>& elements) {
   return starts;
 }
 
+// Who does what: every level is cut into one contiguous part per thread, by weight
+// (the element's links plus a constant for its push, pull and update), and a thread
+// handles the same elements in every phase of every sweep: its gather, push, pull and
+// update of an element all find the element's lines in its own core's cache. (With a
+// separate work split per phase, most lines moved between the cores at every phase.)
+struct Partition {
+  int parts = 1;
+  std::vector<std::size_t> level;  // level starts, plus the end
+  std::vector<std::size_t> cut;    // level l, part t: cut[l * (parts + 1) + t] ..
+  [[nodiscard]] std::size_t levels() const { return level.size() - 1; }
+  [[nodiscard]] std::size_t begin(std::size_t l, int t) const {
+    return cut[l * static_cast<std::size_t>(parts + 1) + static_cast<std::size_t>(t)];
+  }
+  [[nodiscard]] std::size_t end(std::size_t l, int t) const { return begin(l, t + 1); }
+};
+
+Partition partition(const std::vector<Element*>& elements, int threads) {
+  constexpr double kElementWeight = 4;  // push + pull + update, in links' worth of work
+  Partition p;
+  p.parts = std::max(threads, 1);
+  p.level = level_starts(elements);
+  for (std::size_t l = 0; l < p.levels(); ++l) {
+    const std::size_t b = p.level[l], e = p.level[l + 1];
+    double total = 0;
+    for (std::size_t i = b; i < e; ++i) total += kElementWeight + static_cast<double>(elements[i]->links.size());
+    p.cut.push_back(b);
+    double acc = 0;
+    std::size_t i = b;
+    for (int t = 1; t < p.parts; ++t) {
+      const double target = total * t / p.parts;
+      while (i < e && acc + kElementWeight + static_cast<double>(elements[i]->links.size()) <= target) {
+        acc += kElementWeight + static_cast<double>(elements[i]->links.size());
+        ++i;
+      }
+      p.cut.push_back(i);
+    }
+    p.cut.push_back(e);
+  }
+  return p;
+}
+
 void push_one(Element* e, bool cosine) {
   e->next = e->gathered + (e->parent ? e->parent->next : Rgb::Zero());
   if (!cosine || !e->parent || !e->parent->is_cluster()) return;
@@ -57,14 +100,103 @@ void pull_one(Element& e) {
   }
 }
 
-// Push (parents before children): `next` holds the total irradiance H.
-void push_levels(const std::vector<Element*>& elements, bool cosine, int threads) {
-  const std::vector<std::size_t> levels = level_starts(elements);
-  for (std::size_t l = 0; l + 1 < levels.size(); ++l) {
-    const auto b = static_cast<std::ptrdiff_t>(levels[l]), e = static_cast<std::ptrdiff_t>(levels[l + 1]);
-#pragma omp parallel for num_threads(threads) schedule(static) if (e - b > 4096)
-    for (std::ptrdiff_t i = b; i < e; ++i) push_one(elements[static_cast<std::size_t>(i)], cosine);
+// Gathers at one element: its own links' value(link) summed into `gathered`, or, for a
+// cluster in Cosine mode, split along the axes into `directional`.
+template <class Value>
+void gather_one(Element& e, bool cosine, const Value& value) {
+  if (cosine && e.is_cluster()) {
+    // Undo the link's mean cosine (projected_area / area) and split the irradiance
+    // a unit surface facing the source would get along the axes.
+    std::array<Rgb, 6>& dir = *e.directional;
+    dir.fill(Rgb::Zero());
+    for (const Link& l : e.links) {
+      const Vec3 d = (l.source->center - e.center).normalized();
+      const double mean_cos = e.area > 0 ? e.projected_area(d) / e.area : 0.0;
+      if (!(mean_cos > 0)) continue;
+      const Rgb facing = value(l) / mean_cos;
+      for (int a = 0; a < 3; ++a)
+        dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
+    }
+    e.gathered = Rgb::Zero();
+    return;
   }
+  Rgb g = Rgb::Zero();
+  for (const Link& l : e.links) g += value(l);
+  e.gathered = g;
+}
+
+struct alignas(64) SweepChange {
+  double change = 0, largest = 0;
+};
+
+// One pass over the hierarchy in one parallel region: gather (every element, no
+// order), push (levels top-down, a barrier after each), and with `full` also pull
+// (bottom-up) and the update B <- next, returning the largest change and radiosity.
+// Each part of the partition is done by one thread throughout; a smaller team than
+// asked for takes several parts each.
+template <class Gather>
+SweepChange run_pass(const std::vector<Element*>& el, const Partition& p, bool cosine, bool full,
+                     const Gather& gather) {
+  std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts));
+  const std::size_t levels = p.levels();
+#pragma omp parallel num_threads(p.parts)
+  {
+    const int team = omp_get_num_threads(), me = omp_get_thread_num();
+    auto each = [&](std::size_t l, auto&& f) {
+      for (int t = me; t < p.parts; t += team)
+        for (std::size_t i = p.begin(l, t); i < p.end(l, t); ++i) f(*el[i], t);
+    };
+    for (std::size_t l = 0; l < levels; ++l) each(l, [&](Element& e, int) { gather(e); });
+#pragma omp barrier
+    for (std::size_t l = 0; l < levels; ++l) {
+      each(l, [&](Element& e, int) { push_one(&e, cosine); });
+#pragma omp barrier
+    }
+    if (full) {
+      for (std::size_t l = levels; l-- > 0;) {
+        each(l, [](Element& e, int) { pull_one(e); });
+#pragma omp barrier
+      }
+      for (std::size_t l = 0; l < levels; ++l)
+        each(l, [&](Element& e, int t) {
+          SweepChange& c = per_part[static_cast<std::size_t>(t)];
+          c.change = std::max(c.change, (e.next - e.B).abs().maxCoeff());
+          c.largest = std::max(c.largest, e.next.abs().maxCoeff());
+          e.B = e.next;
+        });
+    }
+  }
+  SweepChange total;
+  for (const SweepChange& c : per_part) {
+    total.change = std::max(total.change, c.change);
+    total.largest = std::max(total.largest, c.largest);
+  }
+  return total;
+}
+
+void allocate_directional(const std::vector<Element*>& elements, bool cosine) {
+  if (!cosine) return;
+  for (Element* e : elements)
+    if (e->is_cluster() && !e->directional) e->directional = std::make_unique<std::array<Rgb, 6>>();
+}
+
+double sweep(const std::vector<Element*>& elements, const Partition& p, ClusterReceiver mode,
+             bool grey) {
+  const bool cosine = mode == ClusterReceiver::Cosine;
+  allocate_directional(elements, cosine);
+  SweepChange c;
+  if (grey && !cosine) {
+    // One channel: the same products and sums as channel 0 of the Rgb gather.
+    c = run_pass(elements, p, false, true, [](Element& e) {
+      double g = 0;
+      for (const Link& l : e.links) g += l.transport() * l.source->B[0];
+      e.gathered = Rgb::Constant(g);
+    });
+  } else {
+    const auto value = [](const Link& l) -> Rgb { return l.transport() * l.source->B; };
+    c = run_pass(elements, p, cosine, true, [&](Element& e) { gather_one(e, cosine, value); });
+  }
+  return c.largest > 0 ? c.change / c.largest : 0.0;
 }
 
 }  // namespace
@@ -72,81 +204,24 @@ void push_levels(const std::vector<Element*>& elements, bool cosine, int threads
 void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
                      const std::function<Rgb(const Link&)>& value) {
   const bool cosine = mode == ClusterReceiver::Cosine;
-  if (cosine) {
-    for (Element* e : elements)
-      if (e->is_cluster() && !e->directional) e->directional = std::make_unique<std::array<Rgb, 6>>();
-  }
-  const auto n = static_cast<std::ptrdiff_t>(elements.size());
-  // Gather: independent per receiver.
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    Element& e = *elements[static_cast<std::size_t>(i)];
-    Rgb g = Rgb::Zero();
-    if (cosine && e.is_cluster()) {
-      // Undo the link's mean cosine (projected_area / area) and split the irradiance
-      // a unit surface facing the source would get along the axes.
-      std::array<Rgb, 6>& dir = *e.directional;
-      dir.fill(Rgb::Zero());
-      for (const Link& l : e.links) {
-        const Vec3 d = (l.source->center - e.center).normalized();
-        const double mean_cos = e.area > 0 ? e.projected_area(d) / e.area : 0.0;
-        if (!(mean_cos > 0)) continue;
-        const Rgb facing = value(l) / mean_cos;
-        for (int a = 0; a < 3; ++a)
-          dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
-      }
-    } else {
-      for (const Link& l : e.links) g += value(l);
-    }
-    e.gathered = g;
-  }
-  push_levels(elements, cosine, threads);
+  allocate_directional(elements, cosine);
+  const Partition p = partition(elements, threads);
+  run_pass(elements, p, cosine, false, [&](Element& e) { gather_one(e, cosine, value); });
 }
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads,
                          ClusterReceiver mode, bool grey) {
-  if (grey && mode == ClusterReceiver::Isotropic) {
-    // One channel: the same products and sums as channel 0 of the Rgb gather.
-    const auto n = static_cast<std::ptrdiff_t>(elements.size());
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-      Element& e = *elements[static_cast<std::size_t>(i)];
-      double g = 0;
-      for (const Link& l : e.links) g += l.transport() * l.source->B[0];
-      e.gathered = Rgb::Constant(g);
-    }
-    push_levels(elements, false, threads);
-  } else {
-    gather_and_push(elements, mode, threads,
-                    [](const Link& l) -> Rgb { return l.transport() * l.source->B; });
-  }
-  // Pull (children before parents): `next` becomes the new radiosity. A parent's H
-  // is no longer needed once its children have read it in the push.
-  const std::vector<std::size_t> levels = level_starts(elements);
-  for (std::size_t l = levels.size() - 1; l-- > 0;) {
-    const auto b = static_cast<std::ptrdiff_t>(levels[l]), e = static_cast<std::ptrdiff_t>(levels[l + 1]);
-#pragma omp parallel for num_threads(threads) schedule(static) if (e - b > 4096)
-    for (std::ptrdiff_t i = b; i < e; ++i) pull_one(*elements[static_cast<std::size_t>(i)]);
-  }
-  double change = 0, largest = 0;
-  const auto n = static_cast<std::ptrdiff_t>(elements.size());
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : change, largest)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    Element& e = *elements[static_cast<std::size_t>(i)];
-    change = std::max(change, (e.next - e.B).abs().maxCoeff());
-    largest = std::max(largest, e.next.abs().maxCoeff());
-    e.B = e.next;
-  }
-  return largest > 0 ? change / largest : 0.0;
+  return sweep(elements, partition(elements, threads), mode, grey);
 }
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
                             int max_sweeps, int threads, ClusterReceiver mode, bool grey) {
   PropagationResult r;
+  const Partition parts = partition(elements, threads);  // links do not change here
   double previous = 0;
   int growing = 0;
   while (r.sweeps < max_sweeps) {
-    const double c = propagation_sweep(elements, threads, mode, grey);
+    const double c = sweep(elements, parts, mode, grey);
     ++r.sweeps;
     r.last_change = c;
     if (c < 1e-13) {  // at round-off: nothing left to converge

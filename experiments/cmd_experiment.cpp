@@ -99,6 +99,7 @@ int run_command(const ExperimentArgs& a, const CommandContext& ctx) {
       fmt::print("Experiment {}: {} runs ({} run now, {} already done) in {:.1f} s. Results in "
                  "{}: runs.csv, iterations.csv, manifest.json.\n",
                  config.name, s.runs, s.ran, s.skipped, s.seconds, dir.string());
+    for (const std::string& w : s.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
   } catch (const std::exception& e) {
     fmt::print(stderr, "hrad: {}\n", e.what());
     if (is_result_folder(dir))

@@ -6,6 +6,7 @@
 #include "experiments/harness/accuracy.h"
 #include "experiments/harness/result_files.h"
 #include "experiments/harness/run_rows.h"
+#include "experiments/harness/task_cost.h"
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -105,6 +106,7 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
   std::string scene_spec;
   double run_seconds = 0;
   int number = summary.skipped;
+  TaskCostTable task_costs;
   try {
     for (const SweepPoint& p : points) {
       for (int rep = 0; rep < config.repetitions; ++rep) {
@@ -144,6 +146,7 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
         progress.finish();
         files.append(id, make_run_rows(config.name, p, rep, stats, started,
                                        accuracy ? &*accuracy : nullptr));
+        task_costs.add(p.scene, p.options, stats.totals.task_cpu_ns);
         const double took = seconds_since(run_start);
         run_seconds += took;
         ++summary.ran;
@@ -177,6 +180,7 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
   manifest.erase("error");
   write_manifest(dir, manifest);
   summary.seconds = seconds_since(start);
+  summary.warnings = task_costs.warnings();
   return summary;
 }
 

@@ -28,6 +28,9 @@ struct ExperimentSummary {
   int skipped = 0;  ///< already in runs.csv (resume)
   int ran = 0;
   double seconds = 0;  ///< wall time of this invocation
+  /// Runs of this invocation whose CPU per task at P threads exceeds 1.2x the same
+  /// point's at 1 thread (experiments/harness/task_cost.h), one line each.
+  std::vector<std::string> warnings;
 };
 
 /// True when `dir` holds a manifest.json (a result folder to resume or extend).

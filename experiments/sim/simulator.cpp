@@ -23,7 +23,7 @@ struct Proc {
   std::uint64_t rng = 0;
 };
 
-enum class EventKind { kTake, kBlockEnd, kLoad };
+enum class EventKind { kTake, kBlockEnd };
 
 struct Event {
   double t = 0;
@@ -33,7 +33,9 @@ struct Event {
   bool operator>(const Event& o) const { return t != o.t ? t > o.t : seq > o.seq; }
 };
 
-bool is_central(Policy p) { return p != Policy::kStealing; }
+/// One shared queue (stack, fifo, priority); blocked keeps one stack per processor
+/// under its one lock, stealing one deque per processor with a lock each.
+bool is_central(Policy p) { return p != Policy::kStealing && p != Policy::kBlocked; }
 bool takes_oldest(Policy p) { return p == Policy::kFifo || p == Policy::kPriority; }
 
 class IterationReplay {
@@ -45,7 +47,7 @@ class IterationReplay {
         slow_(c.procs >= 2 ? c.costs.slowdown : 1.0),
         procs_(static_cast<std::size_t>(c.procs)),
         deques_(is_central(c.policy) ? 0 : procs_.size()),
-        deque_locks_(deques_.size()),
+        deque_locks_(c.policy == Policy::kStealing ? procs_.size() : 0),
         runs_(g.tasks.size(), 0) {
     for (std::size_t p = 0; p < procs_.size(); ++p)
       procs_[p].rng = 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(p + 1);
@@ -53,20 +55,18 @@ class IterationReplay {
 
   void run() {
     out_.iteration = g_.iteration;
-    // The solver thread loads the initial tasks in chunks while the refiners start.
+    // Processors load the initial tasks in chunks themselves, when they find nothing
+    // to take (as the refiners do, core/refiner.h).
     const double start = k_.start_ns;
     out_.overhead_ns += start * static_cast<double>(procs_.size());
-    schedule(start, -1, EventKind::kLoad);
     for (std::size_t p = 0; p < procs_.size(); ++p) schedule(start, static_cast<int>(p), EventKind::kTake);
     while (!events_.empty()) {
       const Event e = events_.top();
       events_.pop();
       if (e.kind == EventKind::kTake)
         take(e.proc, e.t);
-      else if (e.kind == EventKind::kBlockEnd)
-        block_end(e.proc, e.t);
       else
-        load(e.t);
+        block_end(e.proc, e.t);
     }
     if (done_ != g_.tasks.size())
       throw std::logic_error(fmt::format("simulation of iteration {} stalled: {} of {} tasks run",
@@ -83,14 +83,11 @@ class IterationReplay {
  private:
   void schedule(double t, int proc, EventKind kind) { events_.push(Event{t, seq_++, proc, kind}); }
 
-  // Requests `r` at `t` for `held` ns; returns the release time. The solver thread's
-  // time (`processor` false) is not a processor's.
-  double acquire(Resource& r, double t, double held, bool processor = true) {
+  // Requests `r` at `t` for `held` ns (a processor's time); returns the release time.
+  double acquire(Resource& r, double t, double held) {
     const double grant = std::max(t, r.free_at);
-    if (processor) {
-      out_.lock_wait_ns += grant - t;
-      out_.overhead_ns += held;
-    }
+    out_.lock_wait_ns += grant - t;
+    out_.overhead_ns += held;
     r.free_at = grant + held;
     return r.free_at;
   }
@@ -117,6 +114,19 @@ class IterationReplay {
       const std::size_t n = std::min(block_, central_.size());
       ready = acquire(lock_, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns);
       pop(central_, n, takes_oldest(c_.policy), me.block);
+    } else if (c_.policy == Policy::kBlocked) {
+      // Under the one lock: its own stack's newest, else the oldest of the next
+      // non-empty stack (schedulers/blocked.cpp).
+      std::deque<std::uint32_t>* from = &deques_[static_cast<std::size_t>(p)];
+      bool steal = false;
+      for (std::size_t k = 1; from->empty() && k < procs_.size(); ++k) {
+        from = &deques_[(static_cast<std::size_t>(p) + k) % procs_.size()];
+        steal = true;
+      }
+      const std::size_t n = std::min(block_, from->size());
+      ready = acquire(lock_, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns);
+      pop(*from, n, steal, me.block);
+      if (steal) out_.steals += n;
     } else {
       auto& own = deques_[static_cast<std::size_t>(p)];
       if (!own.empty()) {
@@ -124,10 +134,6 @@ class IterationReplay {
         ready = acquire(deque_locks_[static_cast<std::size_t>(p)], t,
                         k_.local_op_ns + static_cast<double>(n) * k_.local_task_ns);
         pop(own, n, false, me.block);
-      } else if (!central_.empty()) {  // the inbox: initial tasks, newest first
-        const std::size_t n = std::min(block_, central_.size());
-        ready = acquire(lock_, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns);
-        pop(central_, n, false, me.block);
       } else if (procs_.size() > 1) {
         me.rng ^= me.rng << 13;
         me.rng ^= me.rng >> 7;
@@ -146,6 +152,10 @@ class IterationReplay {
     }
     if (me.block.empty()) {
       ++out_.empty_takes;
+      if (loaded_ < g_.roots) {  // nothing to take: load the next chunk, then take again
+        schedule(load(p, ready), p, EventKind::kTake);
+        return;
+      }
       me.idle = true;
       me.idle_since = ready;
       idle_.push_back(p);
@@ -175,17 +185,8 @@ class IterationReplay {
     }
     ++out_.submits;
     double release = t;
-    std::deque<std::uint32_t>* q = &central_;
-    if (is_central(c_.policy)) {
-      const double copy = c_.policy == Policy::kBlocked ? static_cast<double>(created) * k_.copy_task_ns : 0;
-      out_.overhead_ns += copy;
-      release = acquire(lock_, t + copy,
-                        k_.submit_op_ns + static_cast<double>(created) * k_.submit_task_ns);
-    } else {
-      q = &deques_[static_cast<std::size_t>(p)];
-      release = acquire(deque_locks_[static_cast<std::size_t>(p)], t,
-                        k_.local_op_ns + static_cast<double>(created) * k_.local_task_ns);
-    }
+    std::deque<std::uint32_t>* q = nullptr;
+    release = submit(p, t, created, q);
     for (std::uint32_t i : me.block) {
       const SimTask& task = g_.tasks[i];
       for (std::uint32_t c = 0; c < task.children; ++c) q->push_back(task.first_child + c);
@@ -195,18 +196,33 @@ class IterationReplay {
     wake(release, q->size() > block_ ? (q->size() - block_ + block_ - 1) / block_ : 0);
   }
 
-  // The solver thread submits the next chunk of initial tasks (to the central pool, or
-  // the stealing inbox) and wakes idle processors for it.
-  void load(double t) {
+  // Processor p submits `n` tasks at t: to the central pool, its blocked stack (both
+  // under the central lock; blocked copies the batch first, outside it) or its deque.
+  // Sets `q` to the queue they go to; returns the release time.
+  double submit(int p, double t, std::size_t n, std::deque<std::uint32_t>*& q) {
+    const auto tasks = static_cast<double>(n);
+    if (c_.policy == Policy::kStealing) {
+      q = &deques_[static_cast<std::size_t>(p)];
+      return acquire(deque_locks_[static_cast<std::size_t>(p)], t,
+                     k_.local_op_ns + tasks * k_.local_task_ns);
+    }
+    q = c_.policy == Policy::kBlocked ? &deques_[static_cast<std::size_t>(p)] : &central_;
+    const double copy = c_.policy == Policy::kBlocked ? tasks * k_.copy_task_ns : 0;
+    out_.overhead_ns += copy;
+    return acquire(lock_, t + copy, k_.submit_op_ns + tasks * k_.submit_task_ns);
+  }
+
+  // Processor p loads the next chunk of initial tasks at t and wakes idle processors
+  // for it; returns when it is done.
+  double load(int p, double t) {
     const std::size_t n = std::min<std::size_t>(c_.load_chunk, g_.roots - loaded_);
-    const double copy = c_.policy == Policy::kBlocked ? static_cast<double>(n) * k_.copy_task_ns : 0;
-    const double release = acquire(lock_, t + copy,
-                                   k_.submit_op_ns + static_cast<double>(n) * k_.submit_task_ns, false);
-    for (std::size_t i = 0; i < n; ++i) central_.push_back(static_cast<std::uint32_t>(loaded_ + i));
+    std::deque<std::uint32_t>* q = nullptr;
+    const double release = submit(p, t, n, q);
+    for (std::size_t i = 0; i < n; ++i) q->push_back(static_cast<std::uint32_t>(loaded_ + i));
     loaded_ += n;
     ++out_.submits;
-    if (loaded_ < g_.roots) schedule(release, -1, EventKind::kLoad);
-    wake(release, (central_.size() + block_ - 1) / block_);
+    wake(release, (q->size() + block_ - 1) / block_);
+    return release;
   }
 
   void wake(double at, std::size_t count) {
@@ -228,9 +244,9 @@ class IterationReplay {
   const std::size_t block_;
   const double slow_;
   std::vector<Proc> procs_;
-  std::deque<std::uint32_t> central_;  ///< the central pool, or the stealing inbox
+  std::deque<std::uint32_t> central_;  ///< the central pool (stack, fifo, priority)
   Resource lock_;
-  std::vector<std::deque<std::uint32_t>> deques_;
+  std::vector<std::deque<std::uint32_t>> deques_;  ///< per processor: blocked, stealing
   std::vector<Resource> deque_locks_;
   std::deque<int> idle_;  ///< idle processors, in the order they went idle
   std::priority_queue<Event, std::vector<Event>, std::greater<>> events_;
