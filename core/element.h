@@ -27,14 +27,7 @@ namespace hrad {
 
 enum class ElementKind : std::uint8_t { Cluster, Surface };
 
-/// Layout: an element starts on a cache line, and the fields written while refiners
-/// run (the link list, by whichever refiner stores a link) start a line of their own,
-/// after everything refinement reads (ids, tree, geometry, radiosity). Refiners read
-/// the geometry of elements whose links the other refiners are storing; with both on
-/// one line, every store would take that line from every reader (false sharing).
-struct alignas(64) Element {
-  // Read by refinement; written when the element is built (children and child_count
-  // once more, when they are published).
+struct Element {
   std::uint64_t id = 0;  ///< hash of the path from the root (stable across runs)
   Element* parent = nullptr;
   std::atomic<Element*> children{nullptr};  ///< contiguous block of child_count
@@ -45,8 +38,13 @@ struct alignas(64) Element {
   std::uint32_t face = 0;       ///< surfaces: input polygon; clusters: first in face order
   std::uint32_t face_end = 0;   ///< clusters: one past the last in face order
   std::uint32_t material = 0;   ///< surfaces only
+  /// Leaves: factor applied to the gathered irradiance (row-sum correction, see
+  /// core/row_sums.h; 1 when off). escape: fraction of the hemisphere above the
+  /// element that sees no geometry, estimated by rays (negative until estimated).
+  float gather_scale = 1;
+  float escape = -1;
   /// NUMA node (logical) of the arena memory holding this element, as the arena
-  /// counts it (core/node_arena.h); set at allocation.
+  /// counts it (core/node_arena.h); set at allocation. Uses what was padding.
   std::uint16_t home_node = 0;
   double area = 0;              ///< surface area (clusters: total of member polygons)
   Vec3 corner[4];               ///< surfaces with nverts <= 4
@@ -60,17 +58,9 @@ struct alignas(64) Element {
   Rgb rho = Rgb::Zero();        ///< reflectance (clusters: area-weighted average)
   Rgb emission = Rgb::Zero();   ///< exitance E (clusters: area-weighted average)
   Rgb B = Rgb::Zero();          ///< radiosity, frozen during refinement
-
-  // Written during refinement (links) and between stages (the rest); not read by
-  // refinement except the links' owner.
-  alignas(64) LinkList links;   ///< links where this element is the receiver (core/link_list.h)
-  /// Leaves: factor applied to the gathered irradiance (row-sum correction, see
-  /// core/row_sums.h; 1 when off). escape: fraction of the hemisphere above the
-  /// element that sees no geometry, estimated by rays (negative until estimated).
-  float gather_scale = 1;
-  float escape = -1;
   Rgb gathered = Rgb::Zero();   ///< irradiance gathered over this element's own links
   Rgb next = Rgb::Zero();       ///< scratch for the Jacobi update
+  LinkList links;               ///< links where this element is the receiver (core/link_list.h)
   /// Clusters, with cluster_receiver = cosine only: irradiance arriving along +x, -x,
   /// +y, -y, +z, -z (on a unit surface facing that way), gathered here plus all that
   /// the cluster's ancestors gathered; allocated by the propagation.

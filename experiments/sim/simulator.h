@@ -14,15 +14,17 @@
 // woken processor that finds nothing pays an empty take and waits again. This
 // understates the lock traffic of the real spinning refiners when many are idle.
 //
-// Order: stack and blocked take the newest tasks; fifo the oldest; priority is
+// Order: stack takes the newest tasks; blocked keeps one stack per processor under its
+// one lock, a processor takes its own newest and, when its own is empty, the oldest of
+// the next non-empty stack (schedulers/blocked.cpp); fifo the oldest; priority is
 // approximated by fifo order (the trace has no oracle errors; coarse links, which carry
 // the largest errors, are the oldest) with its own costs; stealing pops the owner's
 // newest, and a thief takes the oldest min(block, ceil(n/2)) tasks of the first
 // non-empty victim in a round-robin scan from a per-processor pseudo-random start.
-// The initial tasks of each iteration are submitted from time 0 by the solver thread, in
-// chunks of load_chunk, while the processors start (for stealing, into the shared inbox;
-// the solver thread is not one of the processors and its time is not in the shares);
-// iterations are separated by a barrier.
+// The initial tasks of each iteration are loaded by the processors themselves, a chunk
+// of load_chunk at a time, by one that finds nothing to take (as the refiners do,
+// core/refiner.h; the load's submit is that processor's time); iterations are
+// separated by a barrier.
 #pragma once
 
 #include "experiments/sim/cost_model.h"
@@ -39,7 +41,7 @@ struct SimConfig {
   int procs = 1;
   int block_size = 1;
   CostModel costs;
-  int load_chunk = 4096;          ///< initial tasks per solver-thread submit (core/refiner.cpp)
+  int load_chunk = 4096;          ///< initial tasks per load (core/refiner.cpp)
   bool keep_executions = false;  ///< fill IterationResult::executions (tests)
 };
 
