@@ -19,6 +19,8 @@ namespace hrad {
 namespace {
 /// Initial tasks a refiner loads into the scheduler per call.
 constexpr std::size_t kLoadChunk = 4096;
+/// Retired tasks a refiner may owe the shared count before it publishes them.
+constexpr std::int64_t kOwedLimit = 1024;
 }  // namespace
 
 struct alignas(64) Refiner::Worker {
@@ -286,10 +288,19 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     Clock::time_point idle_since = Clock::now();
     bool idle = true;  // not yet counted in `busy`
     int idle_round = 0;
+    std::int64_t owed = 0;  // retired tasks not yet taken off `pending` (<= 0)
     for (;;) {
-      const std::size_t n = scheduler.take(w.id, block);
+      // While chunks are left to load, a refiner with nothing of its own loads one
+      // rather than take what another has just loaded.
+      const bool loading = load_cursor.v.load(std::memory_order_relaxed) < all.size();
+      const std::size_t n = loading ? scheduler.take_own(w.id, block) : scheduler.take(w.id, block);
       if (n == 0) {
         if (load_more(w)) continue;
+        if (owed != 0) {  // before going idle, publish what this refiner retired
+          const bool last = pending.v.fetch_add(owed, std::memory_order_acq_rel) + owed == 0;
+          owed = 0;
+          if (last) pending.v.notify_one();
+        }
         if (done.v.load(std::memory_order_acquire)) break;
         if (!idle) {
           idle = true;
@@ -335,10 +346,20 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
       }
       store_links(w, false);
       ++w.c.takes;
-      // One update of the shared count per block: the children are counted before
-      // anyone can see them, and the block retires in the same step.
-      const auto delta = static_cast<std::int64_t>(out.size()) - static_cast<std::int64_t>(n);
-      const bool last = pending.v.fetch_add(delta, std::memory_order_acq_rel) + delta == 0;
+      // The shared count changes by (children - block) per block. Children are counted
+      // before anyone can see them; retirements may be published late (the count then
+      // only stays above the true one, so it cannot reach zero early): a block with
+      // children publishes its own change and whatever was owed, and otherwise the
+      // retirements are owed until kOwedLimit or until the refiner goes idle. Blocks of
+      // reloaded links, which are accepted again without children, then cost no shared
+      // write.
+      bool last = false;
+      owed -= static_cast<std::int64_t>(n);
+      if (!out.empty() || owed <= -kOwedLimit) {
+        const std::int64_t delta = static_cast<std::int64_t>(out.size()) + owed;
+        owed = 0;
+        last = pending.v.fetch_add(delta, std::memory_order_acq_rel) + delta == 0;
+      }
       if (!out.empty()) {
         ++w.c.submits;
         scheduler.submit(w.id, out);

@@ -57,23 +57,9 @@ class BlockedScheduler final : public IScheduler {
         order_(config.pool_order),
         stacks_(static_cast<std::size_t>(std::max(config.threads, 1))) {}
 
-  std::size_t take(int worker, std::span<Task> out) override {
-    const std::size_t want = std::min(out.size(), block_size_);
-    std::vector<Task> discard;  // an oversized emptied buffer, freed after unlocking
-    std::size_t n = 0;
-    {
-      std::unique_lock lock = acquire();
-      const std::size_t w = slot(worker);
-      n = stacks_[w].pop(out, want, discard);
-      for (std::size_t k = 1; n == 0 && k < stacks_.size(); ++k) {
-        ChunkStack& other = stacks_[(w + k) % stacks_.size()];
-        if (other.empty()) continue;
-        n = other.pop_oldest(out, want, discard);
-        counters_.steals += n;
-      }
-      if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
-    }
-    return n;
+  std::size_t take(int worker, std::span<Task> out) override { return take_from(worker, out, true); }
+  std::size_t take_own(int worker, std::span<Task> out) override {
+    return take_from(worker, out, false);
   }
 
   void submit(int worker, std::span<const Task> tasks) override {
@@ -93,6 +79,25 @@ class BlockedScheduler final : public IScheduler {
   [[nodiscard]] const char* name() const override { return "blocked"; }
 
  private:
+  std::size_t take_from(int worker, std::span<Task> out, bool may_steal) {
+    const std::size_t want = std::min(out.size(), block_size_);
+    std::vector<Task> discard;  // an oversized emptied buffer, freed after unlocking
+    std::size_t n = 0;
+    {
+      std::unique_lock lock = acquire();
+      const std::size_t w = slot(worker);
+      n = stacks_[w].pop(out, want, discard);
+      for (std::size_t k = 1; may_steal && n == 0 && k < stacks_.size(); ++k) {
+        ChunkStack& other = stacks_[(w + k) % stacks_.size()];
+        if (other.empty()) continue;
+        n = other.pop_oldest(out, want, discard);
+        counters_.steals += n;
+      }
+      if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
+    }
+    return n;
+  }
+
   // counters_ is only written under mutex_, so the wait can be added to it.
   std::unique_lock<std::mutex> acquire() { return timed_lock(mutex_, counters_.lock_wait_s); }
   [[nodiscard]] std::size_t slot(int worker) const {

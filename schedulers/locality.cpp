@@ -55,22 +55,9 @@ class LocalityScheduler final : public IScheduler {
       if (n < 0 || static_cast<std::size_t>(n) >= nodes_) n = 0;
   }
 
-  std::size_t take(int worker, std::span<Task> out) override {
-    const std::size_t want = std::min(out.size(), block_size_);
-    const std::size_t home = node_of_worker(worker);
-    std::vector<Task> discard;  // an oversized emptied buffer, freed after unlocking
-    std::size_t n = 0;
-    for (std::size_t k = 0; k < nodes_ && n == 0; ++k) {
-      Pool& p = pools_[(home + k) % nodes_];
-      if (p.hint.load(std::memory_order_relaxed) == 0) continue;  // skip the lock when empty
-      std::unique_lock lock = timed_lock(p.mutex, p.lock_wait_s);
-      n = p.stack.pop(out, want, discard);
-      p.hint.store(p.stack.size(), std::memory_order_relaxed);
-      if (k > 0) steals_.fetch_add(n, std::memory_order_relaxed);
-    }
-    (n > 0 ? takes_ : empty_takes_).fetch_add(1, std::memory_order_relaxed);
-    return n;
-  }
+  std::size_t take(int worker, std::span<Task> out) override { return take_from(worker, out, nodes_); }
+  /// Only the refiner's own node's pool.
+  std::size_t take_own(int worker, std::span<Task> out) override { return take_from(worker, out, 1); }
 
   void submit(int /*worker*/, std::span<const Task> tasks) override {
     if (tasks.empty()) return;
@@ -108,6 +95,23 @@ class LocalityScheduler final : public IScheduler {
   [[nodiscard]] const char* name() const override { return "locality"; }
 
  private:
+  std::size_t take_from(int worker, std::span<Task> out, std::size_t pools) {
+    const std::size_t want = std::min(out.size(), block_size_);
+    const std::size_t home = node_of_worker(worker);
+    std::vector<Task> discard;  // an oversized emptied buffer, freed after unlocking
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < pools && n == 0; ++k) {
+      Pool& p = pools_[(home + k) % nodes_];
+      if (p.hint.load(std::memory_order_relaxed) == 0) continue;  // skip the lock when empty
+      std::unique_lock lock = timed_lock(p.mutex, p.lock_wait_s);
+      n = p.stack.pop(out, want, discard);
+      p.hint.store(p.stack.size(), std::memory_order_relaxed);
+      if (k > 0) steals_.fetch_add(n, std::memory_order_relaxed);
+    }
+    (n > 0 ? takes_ : empty_takes_).fetch_add(1, std::memory_order_relaxed);
+    return n;
+  }
+
   struct alignas(64) Pool {
     mutable std::mutex mutex;
     ChunkStack stack;                    // guarded by mutex

@@ -6,7 +6,7 @@
 // finished, so a scheduler only has to hand out what it holds.
 //
 // Contract for every scheduler:
-//  - every task submitted is returned by take() exactly once;
+//  - every task submitted is returned by take() or take_own() exactly once;
 //  - take() never blocks: it returns 0 when it has nothing for this worker now;
 //  - take() and submit() may be called concurrently from any workers, and submit()
 //    also from the solver thread loading initial tasks (as worker 0);
@@ -66,6 +66,12 @@ class IScheduler {
   virtual ~IScheduler() = default;
   /// Fills `out` with up to min(out.size(), block_size) tasks; returns how many.
   virtual std::size_t take(int worker, std::span<Task> out) = 0;
+  /// The same, but never from another worker's queue or pool (no stealing): the
+  /// driver takes this way while initial tasks are left to load, so that a refiner
+  /// with nothing of its own loads fresh work rather than take the work another
+  /// refiner just loaded (and the cache lines it holds). Central pools have no own
+  /// queue: the default is take().
+  virtual std::size_t take_own(int worker, std::span<Task> out) { return take(worker, out); }
   /// Adds tasks created by `worker` (or initial tasks, with worker 0).
   virtual void submit(int worker, std::span<const Task> tasks) = 0;
   [[nodiscard]] virtual SchedulerCounters counters() const = 0;

@@ -18,12 +18,12 @@
 //
 // Who is worker w. The thread that calls take(w) acts as worker w: it records its thread
 // id in `owner` on entry and clears it when take() returns nothing (going idle).
-// submit(w, tasks) pushes onto w's deque only when the calling thread is w's recorded
-// owner; from any other thread (the driver loading initial tasks before the parallel
-// region, or a solver thread running beside the refiners) the tasks go to the *inbox*, a
-// shared vector under a mutex that any worker drains in step 2. The driver's refiners
-// end their loop on an empty take, so between regions no thread owns a deque and every
-// iteration's initial tasks are shared out through the inbox.
+// submit(w, tasks) pushes onto w's deque when the calling thread is w's recorded owner,
+// or when no thread is (then the caller becomes w, as a take would make it: this is how
+// a refiner that found nothing loads a chunk of initial tasks into its own deque); from
+// any other thread (one submitting as w while another acts as w) the tasks go to the
+// *inbox*, a shared vector under a mutex that any worker drains in step 2.
+// take_own(w) is steps 1 and 2 without stealing.
 //
 // Precondition (what makes deque ownership sound): at most one thread acts as worker w at
 // a time, and a thread hands worker w over to another only through happens-before (an
@@ -80,31 +80,23 @@ class StealingScheduler final : public IScheduler {
       at(w).rng = 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(w + 1);  // never 0
   }
 
-  std::size_t take(int worker, std::span<Task> out) override {
-    Worker& me = at(worker);
-    const std::thread::id self = std::this_thread::get_id();
-    if (me.owner.load(std::memory_order_relaxed) != self)
-      me.owner.store(self, std::memory_order_relaxed);
-    const std::span<Task> block = out.first(std::min(out.size(), block_size_));
-    std::size_t n = me.deque.pop(block);
-    if (n == 0) n = take_from_inbox(block);
-    if (n == 0) {
-      n = steal(worker, me, block);
-      me.steals.add(n);
-    }
-    if (n > 0) {
-      me.takes.add(1);
-    } else {
-      me.empty_takes.add(1);
-      me.owner.store(std::thread::id(), std::memory_order_relaxed);  // idle: give up w
-    }
-    return n;
+  std::size_t take(int worker, std::span<Task> out) override { return take_from(worker, out, true); }
+  std::size_t take_own(int worker, std::span<Task> out) override {
+    return take_from(worker, out, false);
   }
 
   void submit(int worker, std::span<const Task> tasks) override {
     if (tasks.empty()) return;
     Worker& w = at(worker);
-    if (w.owner.load(std::memory_order_relaxed) == std::this_thread::get_id()) {
+    const std::thread::id self = std::this_thread::get_id();
+    std::thread::id owner = w.owner.load(std::memory_order_relaxed);
+    // No thread acts as w (its last take was empty): the caller becomes w, as a take
+    // would make it (the precondition: one thread acts as w at a time).
+    if (owner == std::thread::id()) {
+      w.owner.store(self, std::memory_order_relaxed);
+      owner = self;
+    }
+    if (owner == self) {
       w.deque.push(tasks);
       w.submits.add(1);
       return;
@@ -139,6 +131,27 @@ class StealingScheduler final : public IScheduler {
   [[nodiscard]] const char* name() const override { return "stealing"; }
 
  private:
+  std::size_t take_from(int worker, std::span<Task> out, bool may_steal) {
+    Worker& me = at(worker);
+    const std::thread::id self = std::this_thread::get_id();
+    if (me.owner.load(std::memory_order_relaxed) != self)
+      me.owner.store(self, std::memory_order_relaxed);
+    const std::span<Task> block = out.first(std::min(out.size(), block_size_));
+    std::size_t n = me.deque.pop(block);
+    if (n == 0) n = take_from_inbox(block);
+    if (n == 0 && may_steal) {
+      n = steal(worker, me, block);
+      me.steals.add(n);
+    }
+    if (n > 0) {
+      me.takes.add(1);
+    } else {
+      me.empty_takes.add(1);
+      me.owner.store(std::thread::id(), std::memory_order_relaxed);  // idle: give up w
+    }
+    return n;
+  }
+
   Worker& at(int worker) { return workers_[static_cast<std::size_t>(worker)]; }
 
   // Up to out.size() tasks from the inbox, newest first. Never waits: a busy inbox is

@@ -115,11 +115,13 @@ class IterationReplay {
       ready = acquire(lock_, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns);
       pop(central_, n, takes_oldest(c_.policy), me.block);
     } else if (c_.policy == Policy::kBlocked) {
-      // Under the one lock: its own stack's newest, else the oldest of the next
-      // non-empty stack (schedulers/blocked.cpp).
+      // Under the one lock: its own stack's newest, else (once every initial task is
+      // loaded: take_own before) the oldest of the next non-empty stack
+      // (schedulers/blocked.cpp).
       std::deque<std::uint32_t>* from = &deques_[static_cast<std::size_t>(p)];
       bool steal = false;
-      for (std::size_t k = 1; from->empty() && k < procs_.size(); ++k) {
+      const bool may_steal = loaded_ >= g_.roots;
+      for (std::size_t k = 1; may_steal && from->empty() && k < procs_.size(); ++k) {
         from = &deques_[(static_cast<std::size_t>(p) + k) % procs_.size()];
         steal = true;
       }
@@ -134,7 +136,7 @@ class IterationReplay {
         ready = acquire(deque_locks_[static_cast<std::size_t>(p)], t,
                         k_.local_op_ns + static_cast<double>(n) * k_.local_task_ns);
         pop(own, n, false, me.block);
-      } else if (procs_.size() > 1) {
+      } else if (procs_.size() > 1 && loaded_ >= g_.roots) {  // take_own while loading
         me.rng ^= me.rng << 13;
         me.rng ^= me.rng >> 7;
         me.rng ^= me.rng << 17;

@@ -22,8 +22,9 @@
 // newest, and a thief takes the oldest min(block, ceil(n/2)) tasks of the first
 // non-empty victim in a round-robin scan from a per-processor pseudo-random start.
 // The initial tasks of each iteration are loaded by the processors themselves, a chunk
-// of load_chunk at a time, by one that finds nothing to take (as the refiners do,
-// core/refiner.h; the load's submit is that processor's time); iterations are
+// of load_chunk at a time, by one that finds nothing of its own to take (while chunks
+// are left, blocked and stealing do not steal: IScheduler::take_own, as the refiners
+// do, core/refiner.h; the load's submit is that processor's time); iterations are
 // separated by a barrier.
 #pragma once
 
