@@ -226,11 +226,11 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
   for (std::size_t i = 0; i < initial.size(); ++i)
     initial[i].id = (static_cast<std::uint64_t>(trace_iteration) << 40) | i;
   const auto stage_start = Clock::now();
-  // `pending` counts tasks submitted (or still to be loaded) and not yet finished. It
-  // starts at the whole initial load, so it cannot reach zero before every initial
-  // task was loaded and finished. Each block changes it once, by (children - block),
-  // before the children are submitted: it stays above zero while any task is queued,
-  // loaded later, or in flight.
+  // `pending` counts tasks submitted (or still to be loaded) and not yet known to be
+  // finished. It starts at the whole initial load, so it cannot reach zero before every
+  // initial task was loaded and finished. A block's children are added before they are
+  // submitted, and its retired tasks are taken off then or later (see the loop), so it
+  // stays above zero while any task is queued, left to load, or in flight.
   PaddedAtomic<std::int64_t> pending(static_cast<std::int64_t>(initial.size()));
   PaddedAtomic<bool> done(false);
   PaddedAtomic<std::size_t> load_cursor(0);  // next initial task to load
@@ -240,8 +240,8 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
   const std::span<const Task> all(initial);
 
   // Loads the next chunk of initial tasks into the scheduler, as `worker`; false when
-  // every chunk has been taken. Refiners load when they find the scheduler empty, so
-  // loading runs in parallel and only as fast as the work needs it (paper §3.2 has a
+  // every chunk has been taken. A refiner loads when it finds nothing of its own to
+  // take, so loading runs in parallel and only as fast as the work needs it (paper §3.2 has a
   // solver thread load them; on P cores for P refiners that thread would compete with
   // the refiners for a core while they wait for it).
   auto load_more = [&](Worker& w) {

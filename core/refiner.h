@@ -9,11 +9,13 @@
 // in chunks by the refiners themselves, by whichever finds the scheduler empty, so
 // the load runs in parallel and on demand. A solver thread runs beside the refiners
 // (paper §3.2) and detects termination: `pending` counts tasks submitted or still to
-// be loaded and not yet finished; it starts at the whole initial load, and a refiner
-// counts a block's children (and retires the block) in one update before it submits
-// them, so pending reaches zero only when no task is queued, left to load or in
-// flight. The refiner that brings it to zero wakes the solver thread, which tells the
-// refiners to stop (the solver thread sleeps meanwhile: it takes no core).
+// be loaded and not yet known to be finished; it starts at the whole initial load, a
+// refiner adds a block's children before it submits them, and takes retired tasks off
+// in the same update or later (at most 1,024 owed, all before it goes idle), so
+// pending reaches zero only when no task is queued, left to load or in flight. The
+// refiner that brings it to zero wakes the solver thread, which tells the refiners to
+// stop (the solver thread sleeps meanwhile: it takes no core). While chunks are left
+// to load, refiners take only their own work (IScheduler::take_own).
 #pragma once
 
 #include "core/element.h"

@@ -351,9 +351,9 @@ TEST(SchedBlocked, TakeNeverExceedsTheCallersBuffer) {
 TEST(SchedStealing, ThiefTakesOldestHalfUpToBlockSize) {
   // One thread playing both workers in turn (allowed: never at the same time).
   auto s = make_scheduler("stealing", SchedulerConfig{2, 8});
-  s->submit(0, std::vector<Task>{task_for(1)});  // no owner yet: goes to the inbox
+  s->submit(0, std::vector<Task>{task_for(1)});  // no owner yet: the caller becomes 0
   std::vector<Task> out(8);
-  ASSERT_EQ(s->take(0, out), 1u);  // worker 0 drains the inbox and now owns deque 0
+  ASSERT_EQ(s->take(0, out), 1u);  // worker 0 pops it from deque 0
   EXPECT_EQ(id_of(out[0]), 1u);
   std::vector<Task> kids;
   for (std::uint32_t i = 100; i < 110; ++i) kids.push_back(task_for(i));
@@ -385,6 +385,34 @@ TEST(SchedStealing, StealsAtMostBlockSize) {
   EXPECT_EQ(s->take(0, out), 2u);  // half would be 5; the block caps it at 2
   EXPECT_EQ(s->take(1, out), 2u);
   EXPECT_EQ(s->counters().steals, 4u);
+}
+
+// take_own (used while initial tasks are left to load) never takes another worker's
+// tasks; take then does, and every task still comes out once.
+TEST(SchedOwn, TakeOwnLeavesOtherWorkersTasksAlone) {
+  for (const char* name : {"blocked", "stealing"}) {
+    auto s = make_scheduler(name, SchedulerConfig{2, 4});
+    std::vector<Task> mine;
+    for (std::uint32_t i = 1; i <= 6; ++i) mine.push_back(task_for(i));
+    s->submit(0, mine);  // worker 0's own queue (stealing: the caller becomes worker 0)
+    std::vector<Task> out(8);
+    EXPECT_EQ(s->take_own(1, out), 0u) << name;
+    std::vector<std::uint32_t> seen;
+    const std::size_t stolen = s->take(1, out);
+    EXPECT_GT(stolen, 0u) << name;
+    for (std::size_t i = 0; i < stolen; ++i) seen.push_back(id_of(out[i]));
+    for (std::size_t n; (n = s->take_own(0, out)) > 0;)
+      for (std::size_t i = 0; i < n; ++i) seen.push_back(id_of(out[i]));
+    std::sort(seen.begin(), seen.end());
+    EXPECT_EQ(seen, (std::vector<std::uint32_t>{1, 2, 3, 4, 5, 6})) << name;
+    EXPECT_EQ(s->counters().steals, stolen) << name;
+  }
+  // A central pool has no queue of its own: take_own is take.
+  auto stack = make_scheduler("stack", SchedulerConfig{2, 4});
+  stack->submit(0, std::vector<Task>{task_for(7)});
+  std::vector<Task> out(4);
+  ASSERT_EQ(stack->take_own(1, out), 1u);
+  EXPECT_EQ(id_of(out[0]), 7u);
 }
 
 TEST(SchedRegistry, KnowsTheFiveSchedulers) {
