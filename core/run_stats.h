@@ -107,4 +107,12 @@ struct RunStats {
 /// Peak resident set size of this process so far (from getrusage), in bytes.
 std::uint64_t peak_rss_bytes();
 
+/// "" or a warning that a refiner of this stage waited for a core while it had work:
+/// its thread's CPU time over the stage (cpu_s) is below 80% of the wall time it spent
+/// refining blocks (busy_s; idle time does not count, an idle refiner sleeps). Then
+/// more threads were runnable than cores (other processes, or a CPU set that puts two
+/// refiners on one core), and its timings measure that sharing. Only for runs of two
+/// or more refiners, and refiners busy 50 ms or more.
+std::string descheduled_refiner_warning(const IterationStats& is);
+
 }  // namespace hrad

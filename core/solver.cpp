@@ -29,8 +29,6 @@
 namespace hrad {
 
 namespace {
-double since(Clock::time_point t0) { return seconds_since(t0); }
-
 /// Leaf surface elements (those without children), depth first: the solution's
 /// finest mesh.
 std::vector<const Element*> leaf_surfaces(const Element& root) {
@@ -47,26 +45,6 @@ std::vector<const Element*> leaf_surfaces(const Element& root) {
     }
   }
   return leaves;
-}
-
-// A refiner whose thread ran on a CPU for much less than the stage lasted waited
-// for a core: more runnable threads than cores (other processes, or a CPU set that
-// puts two refiners on one core). Its per-task wall times, and the speed-up, then
-// measure the sharing, not the code. Only stages long enough to tell (50 ms).
-void warn_if_descheduled(const IterationStats& is, std::vector<std::string>& warnings) {
-  if (is.refiners.size() < 2 || is.refine_wall_s < 0.05) return;
-  for (std::size_t i = 0; i < is.refiners.size(); ++i) {
-    const RefinerStats& r = is.refiners[i];
-    const double stage = r.busy_s + r.idle_s;
-    if (stage > 0.05 && r.cpu_s < 0.8 * stage) {
-      warnings.push_back(fmt::format(
-          "iteration {}: refiner {} ran on a CPU for {:.0f}% of the stage ({:.3f} of {:.3f} s): "
-          "threads waited for a core (more runnable threads than cores?), so its timings "
-          "measure the sharing",
-          is.iteration, i, 100 * r.cpu_s / stage, r.cpu_s, stage));
-      return;
-    }
-  }
 }
 
 // The cluster tree is built by the calling thread into refiner 0's arena, so the
@@ -178,7 +156,7 @@ RunStats Solver::run() {
                                     o.trace.empty() ? 0 : it);
     if (!o.trace.empty()) trace.insert(trace.end(), rc.trace.begin(), rc.trace.end());
     // The stage includes building its tasks from the previous iteration's links.
-    is.refine_wall_s = since(t0) + reload_s;
+    is.refine_wall_s = seconds_since(t0) + reload_s;
     is.refine_cpu_s = rc.busy_s;
     is.refine_thread_cpu_s = rc.cpu_s;
     is.task_cpu_ns = rc.tasks > 0 ? 1e9 * rc.cpu_s / static_cast<double>(rc.tasks) : 0.0;
@@ -205,7 +183,7 @@ RunStats Solver::run() {
       r.rays_cast = c.rays_cast;
       is.refiners.push_back(r);
     }
-    warn_if_descheduled(is, stats.warnings);
+    if (std::string w = descheduled_refiner_warning(is); !w.empty()) stats.warnings.push_back(w);
     record_numa_stats(is, rc, m.plan, m.hierarchy, *m.topology, stats.warnings);
     const SchedulerCounters sc = scheduler->counters();
     is.steals = sc.steals;
@@ -227,7 +205,7 @@ RunStats Solver::run() {
     is.row_sum_corrected = rs.corrected;
     const PropagationResult pr =
         propagate(elements, o.gather_tolerance, max_sweeps, o.threads, m.receiver_mode, grey);
-    is.propagate_wall_s = since(t0);
+    is.propagate_wall_s = seconds_since(t0);
     is.gather_sweeps = pr.sweeps;
     is.max_change = pr.last_change;
     if (pr.diverged)
@@ -261,7 +239,7 @@ RunStats Solver::run() {
     if (it < o.iterations) {
       const auto reload_start = Clock::now();
       Refiner::reload_links(m.hierarchy, elements, o.threads, tasks);
-      reload_s = since(reload_start);
+      reload_s = seconds_since(reload_start);
     }
   }
   if (!o.trace.empty()) {
@@ -283,7 +261,7 @@ RunStats Solver::run() {
   if (m.progress) m.progress("done", 1.0);
 
   RunTotals& t = stats.totals;
-  t.wall_s = since(run_start);
+  t.wall_s = seconds_since(run_start);
   std::uint64_t tasks_run = 0;
   for (const IterationStats& is : stats.iterations) {
     t.refine_wall_s += is.refine_wall_s;

@@ -207,5 +207,26 @@ TEST(StatsJson, WriteJsonAtomicallyLeavesOnlyTheFinalFile) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(RunStats, DescheduledRefinerWarning) {
+  IterationStats is;
+  is.iteration = 3;
+  is.refiners.resize(2);
+  is.refiners[0].busy_s = 1.0;
+  is.refiners[0].cpu_s = 0.99;
+  is.refiners[1].busy_s = 1.0;
+  is.refiners[1].cpu_s = 0.95;
+  is.refiners[1].idle_s = 5.0;  // idle time is sleep: it does not count
+  EXPECT_EQ(descheduled_refiner_warning(is), "");
+  is.refiners[1].cpu_s = 0.5;  // half the refining time off a CPU: a shared core
+  const std::string w = descheduled_refiner_warning(is);
+  EXPECT_NE(w.find("iteration 3: refiner 1 ran on a CPU for 50%"), std::string::npos) << w;
+  is.refiners[1].busy_s = 0.04;  // too short to tell
+  is.refiners[1].cpu_s = 0.0;
+  EXPECT_EQ(descheduled_refiner_warning(is), "");
+  is.refiners.resize(1);  // one refiner: nothing to compare
+  is.refiners[0].cpu_s = 0.1;
+  EXPECT_EQ(descheduled_refiner_warning(is), "");
+}
+
 }  // namespace
 }  // namespace hrad
