@@ -52,21 +52,21 @@ struct Partition {
 Partition partition(const std::vector<Element*>& elements, int threads) {
   constexpr double kElementWeight = 4;  // push + pull + update, in links' worth of work
   Partition p;
+  const auto weight = [&](std::size_t i) {
+    return kElementWeight + static_cast<double>(elements[i]->links.size());
+  };
   p.parts = std::max(threads, 1);
   p.level = level_starts(elements);
   for (std::size_t l = 0; l < p.levels(); ++l) {
     const std::size_t b = p.level[l], e = p.level[l + 1];
     double total = 0;
-    for (std::size_t i = b; i < e; ++i) total += kElementWeight + static_cast<double>(elements[i]->links.size());
+    for (std::size_t i = b; i < e; ++i) total += weight(i);
     p.cut.push_back(b);
     double acc = 0;
     std::size_t i = b;
     for (int t = 1; t < p.parts; ++t) {
       const double target = total * t / p.parts;
-      while (i < e && acc + kElementWeight + static_cast<double>(elements[i]->links.size()) <= target) {
-        acc += kElementWeight + static_cast<double>(elements[i]->links.size());
-        ++i;
-      }
+      while (i < e && acc + weight(i) <= target) acc += weight(i++);
       p.cut.push_back(i);
     }
     p.cut.push_back(e);

@@ -413,7 +413,8 @@ void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& el
   // the list is the same whatever the thread count, and is filled in parallel.
   const auto n = static_cast<std::ptrdiff_t>(elements.size());
   std::vector<std::size_t> first(elements.size() + 1, 0);
-  for (std::size_t i = 0; i < elements.size(); ++i) first[i + 1] = first[i] + elements[i]->links.size();
+  for (std::size_t i = 0; i < elements.size(); ++i)
+    first[i + 1] = first[i] + elements[i]->links.size();
   tasks.resize(first.back());  // only a longer list constructs (serially) its new tail
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1024) if (first.back() > 65536)
   for (std::ptrdiff_t i = 0; i < n; ++i) {

@@ -8,8 +8,9 @@
 // Contract for every scheduler:
 //  - every task submitted is returned by take() or take_own() exactly once;
 //  - take() never blocks: it returns 0 when it has nothing for this worker now;
-//  - take() and submit() may be called concurrently from any workers, and submit()
-//    also from the solver thread loading initial tasks (as worker 0);
+//  - take(), take_own() and submit() may be called concurrently from any workers (the
+//    refiners load the initial tasks through submit() as themselves), and submit()
+//    also from a thread that is no refiner (as any worker);
 //  - a scheduler may use `worker` to keep per-worker queues or locality.
 #pragma once
 

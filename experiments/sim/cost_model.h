@@ -17,9 +17,10 @@
 // | start_ns       | per iteration, before the first take (starting the refiner threads)     |
 // | slowdown       | task durations are multiplied by this when 2 or more processors run     |
 //
-// Contention: the central lock (and the stealing inbox) has one holder at a time; each
-// stealing deque is a resource of its own (owner operations and steals on it are
-// serialised, different deques proceed in parallel). Waiting is first come, first served.
+// Contention: the central lock (blocked's per-processor stacks are under it too) has one
+// holder at a time; each stealing deque is a resource of its own (owner operations and
+// steals on it are serialised, different deques proceed in parallel). Waiting is first
+// come, first served.
 #pragma once
 
 #include <filesystem>
