@@ -21,11 +21,12 @@
 // chunk goes on its submitter's stack; a refiner takes from its own stack (LIFO over
 // chunks, newest first inside a chunk: exactly `stack`'s depth-first order, and with
 // one refiner exactly `stack`), and only when its own is empty from the oldest chunk of
-// the next non-empty stack (counted as steals). With a single LIFO shared by all, each
-// refiner took the children the other had just created, on elements the other had just
-// built: every such task's data came from the other core's cache. Measured on the
-// office at 2 threads, block 10, CPU per task rose 27 % over 1 thread that way, and 3 %
-// with this order. The lock, the blocking and their costs are the paper's.
+// the next non-empty stack (counted as steals; take_own never does). With a single
+// LIFO shared by all, each refiner took the children the other had just created, on
+// elements the other had just built: every such task's data came from the other core's
+// cache. Measured on the office at 2 threads, block 10, CPU per task rose 27 % over 1
+// thread that way, and 1-5 % with this order (iteration 1, medians of 5 alternating
+// pairs). The lock, the blocking and their costs are the paper's.
 //
 // The chunk stack itself is schedulers/chunk_stack.h (shared with `locality`).
 //
