@@ -180,10 +180,10 @@ void allocate_directional(const std::vector<Element*>& elements, bool cosine) {
     if (e->is_cluster() && !e->directional) e->directional = std::make_unique<std::array<Rgb, 6>>();
 }
 
+// One sweep; the clusters' directional arrays must be allocated (Cosine mode).
 double sweep(const std::vector<Element*>& elements, const Partition& p, ClusterReceiver mode,
              bool grey) {
   const bool cosine = mode == ClusterReceiver::Cosine;
-  allocate_directional(elements, cosine);
   SweepChange c;
   if (grey && !cosine) {
     // One channel: the same products and sums as channel 0 of the Rgb gather.
@@ -211,6 +211,7 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads,
                          ClusterReceiver mode, bool grey) {
+  allocate_directional(elements, mode == ClusterReceiver::Cosine);
   return sweep(elements, partition(elements, threads), mode, grey);
 }
 
@@ -218,6 +219,7 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
                             int max_sweeps, int threads, ClusterReceiver mode, bool grey) {
   PropagationResult r;
   const Partition parts = partition(elements, threads);  // links do not change here
+  allocate_directional(elements, mode == ClusterReceiver::Cosine);
   double previous = 0;
   int growing = 0;
   while (r.sweeps < max_sweeps) {

@@ -25,8 +25,13 @@ class TaskCostTable {
   [[nodiscard]] std::vector<std::string> warnings(double ratio = kTaskCostWarnRatio) const;
 
  private:
-  // key: scene and every option but threads; then threads -> costs
-  std::map<std::string, std::map<int, std::vector<double>>> costs_;
+  struct Point {
+    std::string scene;
+    SolverOptions options;                       ///< with threads = 1
+    std::map<int, std::vector<double>> by_threads;  ///< threads -> CPU ns per task
+  };
+  // key: scene and every option but threads (as JSON)
+  std::map<std::string, Point> points_;
 };
 
 }  // namespace hrad::experiment
