@@ -178,6 +178,9 @@ ProbeComparison compare_probes(const ProbeTable& a, const ProbeTable& r, double 
       }
       if (e.z <= 2) ++c.within_2se;
     }
+    e.signed_error = (e.result.mean() - e.reference.mean()) / std::max(std::abs(e.reference.mean()), c.floor);
+    c.bias += e.signed_error;
+    if (e.signed_error < 0) ++c.low;
     sum += e.rel_error;
     sum2 += e.rel_error * e.rel_error;
     if (e.rel_error > c.max) {
@@ -189,6 +192,12 @@ ProbeComparison compare_probes(const ProbeTable& a, const ProbeTable& r, double 
   const auto n = static_cast<double>(c.probes.size());
   c.mean = sum / n;
   c.rms = std::sqrt(sum2 / n);
+  c.bias /= n;
+  std::vector<double> sorted;
+  for (const ProbeError& e : c.probes) sorted.push_back(e.rel_error);
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t m = sorted.size() / 2;
+  c.median = sorted.size() % 2 ? sorted[m] : 0.5 * (sorted[m - 1] + sorted[m]);
   return c;
 }
 

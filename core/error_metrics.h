@@ -55,12 +55,17 @@ struct ProbeError {
   Rgb result = Rgb::Zero(), reference = Rgb::Zero();
   double rel_error = 0;  ///< largest channel of |a - r| / max(|r|, floor)
   double z = -1;         ///< largest channel of |a - r| / SE; -1 without SE columns
+  /// Signed error of the channel mean: (mean(a) - mean(r)) / max(|mean(r)|, floor).
+  double signed_error = 0;
 };
 
 struct ProbeComparison {
   double floor = 0;  ///< absolute floor used
   std::vector<ProbeError> probes;
   double mean = 0, max = 0, rms = 0;  ///< of rel_error over the probes
+  double median = 0;                  ///< of rel_error (mean of the middle two for even counts)
+  double bias = 0;                    ///< mean of signed_error: < 0 when the result is low
+  std::size_t low = 0;                ///< probes with signed_error < 0
   std::size_t worst = 0;              ///< index of the probe with the largest error
   bool has_se = false;
   std::size_t within_2se = 0;  ///< probes with z <= 2 (when has_se)

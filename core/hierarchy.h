@@ -66,6 +66,8 @@ class Hierarchy {
                                   const Vec3* toward = nullptr,
                                   std::uint32_t* face = nullptr) const;
   static constexpr int kFacingTries = 8;
+  /// Unit front normal of input polygon `face`.
+  [[nodiscard]] const Vec3& face_normal(std::uint32_t face) const { return face_normal_[face]; }
 
   /// Every element, parents before children (a snapshot; call when no refiner runs).
   [[nodiscard]] std::vector<Element*> elements();

@@ -21,7 +21,7 @@
 // | max_gather_sweeps   | int    | 100000       | hard cap on gather + push-pull sweeps per iteration        |
 // | cluster_model       | string | "directional"| cluster projected areas: isotropic (A/4) or directional    |
 // | cluster_receiver    | string | "isotropic"  | how a cluster hands on what it gathers: isotropic, cosine  |
-// | row_sums            | string | "clamp"      | leaf row-sum correction: keep, clamp, normalize            |
+// | row_sums            | string | "keep"       | leaf row-sum correction: keep, clamp, normalize            |
 // |                     |        |              | (see core/row_sums.h)                                      |
 // | row_sum_rays        | int    | 64           | escape rays per leaf for row_sums = normalize              |
 // | locks_pool          | int    | 0            | hashed locks per class (0: twice the refiner count)        |
@@ -55,7 +55,7 @@ struct SolverOptions {
   int max_gather_sweeps = 100000;
   std::string cluster_model = "directional";
   std::string cluster_receiver = "isotropic";
-  std::string row_sums = "clamp";
+  std::string row_sums = "keep";
   int row_sum_rays = 64;
   int locks_pool = 0;
   std::string trace;

@@ -2,13 +2,16 @@
 
 #include "core/atomic_file.h"
 #include "core/input_error.h"
+#include "core/scene.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
@@ -84,6 +87,61 @@ std::vector<Probe> read_probes(const std::string& path) {
   text << in.rdbuf();
   if (in.bad()) throw InputError(path, 0, "error while reading the probe file");
   return parse_probes(text.str(), path);
+}
+
+std::vector<Probe> random_surface_probes(const Scene& scene, std::size_t n, std::uint64_t seed) {
+  if (n == 0) return {};
+  // Triangles of every face (a fan from vertex 0: faces are convex), with their
+  // cumulative areas.
+  struct Tri {
+    Vec3 a, b, c, normal;
+  };
+  std::vector<Tri> tris;
+  std::vector<double> cumulative;
+  double total = 0;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const std::vector<Vec3> p = scene.face_vertices(f);
+    const Vec3 normal = scene.face_normal(f);
+    for (std::size_t k = 1; k + 1 < p.size(); ++k) {
+      const double a = 0.5 * (p[k] - p[0]).cross(p[k + 1] - p[0]).norm();
+      if (!(a > 0)) continue;
+      tris.push_back({p[0], p[k], p[k + 1], normal});
+      total += a;
+      cumulative.push_back(total);
+    }
+  }
+  if (tris.empty()) throw std::invalid_argument("random probes: the scene has no surface area");
+  const double lift = 1e-6 * scene.bounds().diagonal();
+  std::mt19937_64 rng(seed ^ 0x5851F42D4C957F2Dull);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Probe> probes;
+  probes.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = u(rng) * total;
+    const std::size_t t = std::min<std::size_t>(
+        static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), x) -
+                                 cumulative.begin()),
+        tris.size() - 1);
+    double s = u(rng), v = u(rng);
+    if (s + v > 1) {
+      s = 1 - s;
+      v = 1 - v;
+    }
+    const Tri& tri = tris[t];
+    Probe pr;
+    pr.n = tri.normal;
+    pr.p = tri.a + s * (tri.b - tri.a) + v * (tri.c - tri.a) + lift * tri.normal;
+    probes.push_back(pr);
+  }
+  return probes;
+}
+
+std::string probes_text(const std::vector<Probe>& probes, const std::string& comment) {
+  std::string out = comment.empty() ? "" : "# " + comment + "\n";
+  for (const Probe& pr : probes)
+    out += fmt::format("{:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}\n", pr.p[0], pr.p[1], pr.p[2],
+                       pr.n[0], pr.n[1], pr.n[2]);
+  return out;
 }
 
 std::string probes_csv(const std::vector<Probe>& probes, const std::vector<Rgb>& irradiance) {

@@ -11,11 +11,14 @@
 
 #include "core/geometry.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace hrad {
+
+struct Scene;
 
 struct Probe {
   Vec3 p = Vec3::Zero();
@@ -29,6 +32,19 @@ struct Probe {
 
 /// Reads and parses a probe file. Throws InputError(path, 0, ...) when it cannot be read.
 [[nodiscard]] std::vector<Probe> read_probes(const std::string& path);
+
+/// `n` probes at points drawn uniformly by area over the scene's faces (a face with
+/// probability proportional to its area, then a uniform point in it), each lifted off
+/// its face by 1e-6 of the scene's bounding-box diagonal along the face's front normal,
+/// which is the probe's normal. A pure function of the scene, `n` and `seed`. Points
+/// on faces that see nothing (a face in contact with another) are kept: a random set
+/// should not be chosen to suit the solver.
+[[nodiscard]] std::vector<Probe> random_surface_probes(const Scene& scene, std::size_t n,
+                                                       std::uint64_t seed);
+
+/// Probe lines ("x y z nx ny nz", %.9g) that parse_probes reads back, with a comment
+/// line first when `comment` is not empty.
+[[nodiscard]] std::string probes_text(const std::vector<Probe>& probes, const std::string& comment);
 
 /// The CSV text for probes and their irradiance (same length, else std::invalid_argument).
 [[nodiscard]] std::string probes_csv(const std::vector<Probe>& probes,

@@ -351,8 +351,9 @@ std::vector<Solver::Leaf> Solver::leaves() const {
 
 std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
   // Final gather: irradiance = sum over leaf surfaces of B_s x F(point -> s) x V,
-  // with the exact point-to-polygon form factor and visibility from rays whose
-  // random numbers hash the probe index and the element id.
+  // with the exact point-to-polygon form factor and the kernel-weighted visibility of
+  // Transport::visibility_from_point, from rays whose random numbers hash the probe
+  // index and the element id.
   const Impl& m = *impl_;
   const std::vector<const Element*> leaves = leaf_surfaces(m.hierarchy.root());
   const int k = std::max(m.options.visibility_rays, 8);
@@ -366,16 +367,9 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
       if ((s->B <= 0).all()) continue;
       const double f = point_to_polygon_ff(pr.p, pr.n, s->corners());
       if (f <= 0) continue;
-      int open = 0;
-      const std::uint64_t key = child_id(s->id, static_cast<std::uint32_t>(i) ^ 0x5EEDu) ^ m.options.seed;
-      for (int j = 0; j < k; ++j) {
-        const auto b = static_cast<std::uint64_t>(3 * j);
-        const Vec3 q = m.hierarchy.sample_point(*s, hashed_uniform(key, b), hashed_uniform(key, b + 1),
-                                                hashed_uniform(key, b + 2));
-        // q lies on s's polygon, which cannot block (see RayScene::occluded).
-        if (!m.rays.occluded(pr.p, q, RayScene::kNoPolygon, s->face)) ++open;
-      }
-      sum += f * (static_cast<double>(open) / k) * s->B;
+      const std::uint64_t key = child_id(s->id, static_cast<std::uint32_t>(i) ^ 0x5EEDu);
+      const double v = m.transport.visibility_from_point(pr.p, pr.n, *s, key, k);
+      sum += f * v * s->B;
     }
     out[static_cast<std::size_t>(i)] = sum;
   }

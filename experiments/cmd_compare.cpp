@@ -55,8 +55,10 @@ nlohmann::json probe_report(const ProbeTable& a, const ProbeTable& b, double flo
   const ProbeComparison c = compare_probes(a, b, floor);
   fmt::print("Probes: {} ({} against reference {})\n", c.probes.size(), a.file, b.file);
   fmt::print("  relative error |a - r| / max(|r|, {:.4g}), largest channel:\n", c.floor);
-  fmt::print("    mean {:.4g}   rms {:.4g}   max {:.4g} (probe {})\n", c.mean, c.rms, c.max,
-             c.worst);
+  fmt::print("    median {:.4g}   mean {:.4g}   rms {:.4g}   max {:.4g} (probe {})\n", c.median,
+             c.mean, c.rms, c.max, c.worst);
+  fmt::print("  signed error of the channel mean: mean (bias) {:+.4g}, {} of {} probes low\n",
+             c.bias, c.low, c.probes.size());
   if (c.has_se)
     fmt::print("  within 2 standard errors of the reference: {} of {}\n", c.within_2se,
                c.probes.size());
@@ -75,12 +77,14 @@ nlohmann::json probe_report(const ProbeTable& a, const ProbeTable& b, double flo
   for (const ProbeError& e : c.probes) {
     nlohmann::json p = {{"result", rgb_json(e.result)},
                         {"reference", rgb_json(e.reference)},
-                        {"rel_error", e.rel_error}};
+                        {"rel_error", e.rel_error},
+                        {"signed_error", e.signed_error}};
     if (c.has_se) p["z"] = e.z;
     per.push_back(p);
   }
   nlohmann::json j = {{"result", a.file},    {"reference", b.file}, {"floor", c.floor},
                       {"count", c.probes.size()}, {"mean", c.mean}, {"rms", c.rms},
+                      {"median", c.median}, {"bias", c.bias}, {"low", c.low},
                       {"max", c.max},        {"worst", c.worst},    {"per_probe", per}};
   if (c.has_se) j["within_2se"] = c.within_2se;
   return j;

@@ -28,6 +28,7 @@ namespace fs = std::filesystem;
 
 struct ReferenceArgs {
   std::string scene, probes, out;
+  std::size_t random_probes = 0;
   PathTracerOptions options;
   bool quiet = false;
 };
@@ -52,9 +53,15 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
   std::vector<Probe> probes;
   std::unique_ptr<PathTracer> tracer;
   try {
+    if (a.probes.empty() && a.random_probes == 0)
+      throw std::invalid_argument("give the probe points: --probes FILE or --random-probes N");
     scene = load_scene(a.scene);
-    probes = read_probes(a.probes);
-    if (probes.empty()) throw std::invalid_argument(fmt::format("{}: no probes", a.probes));
+    if (a.random_probes > 0) {
+      probes = random_surface_probes(scene, a.random_probes, a.options.seed);
+    } else {
+      probes = read_probes(a.probes);
+      if (probes.empty()) throw std::invalid_argument(fmt::format("{}: no probes", a.probes));
+    }
     for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
     tracer = std::make_unique<PathTracer>(scene);
     // Option ranges, before anything is created (estimate() checks them too).
@@ -77,6 +84,11 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
     ProgressReporter progress(a.quiet);
     const ReferenceResult r = tracer->estimate(probes, a.options, progress.callback());
     progress.finish();
+    if (a.random_probes > 0)
+      write_file_atomically(out / "probes.txt",
+                            probes_text(probes, fmt::format("{} random surface probes of {}, seed {}",
+                                                            probes.size(), a.scene,
+                                                            a.options.seed)));
     write_file_atomically(out / "probes.csv", reference_csv(probes, r));
 
     nlohmann::json unconverged = nlohmann::json::array();
@@ -106,6 +118,7 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
           {"rr_depth", a.options.rr_depth}}},
         {"floor", {r.floor[0], r.floor[1], r.floor[2]}},
         {"probes", probes.size()},
+        {"probes_file", a.random_probes > 0 ? "probes.txt (random surface probes)" : a.probes},
         {"samples_total", total},
         {"rounds", r.rounds},
         {"rays_cast", r.rays},
@@ -150,10 +163,18 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
   sub->add_option("SCENE", args->scene,
                   "Scene: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[?k=v&...]")
       ->required();
-  sub->add_option("--probes", args->probes,
-                  "Irradiance probes: one 'x y z nx ny nz' per line (scene units)")
-      ->type_name("FILE")
-      ->required();
+  CLI::Option* probes =
+      sub->add_option("--probes", args->probes,
+                      "Irradiance probes: one 'x y z nx ny nz' per line (scene units)")
+          ->type_name("FILE");
+  CLI::Option* random =
+      sub->add_option("--random-probes", args->random_probes,
+                      "Instead of --probes: N points drawn uniformly by area over the scene's "
+                      "faces (from --seed), on their front sides; written to DIR/probes.txt for "
+                      "'hrad solve --probes'")
+          ->type_name("N")
+          ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+  probes->excludes(random);
   sub->add_option("--out", args->out, "Output folder, created if missing, files in it replaced")
       ->type_name("DIR")
       ->required();

@@ -48,6 +48,14 @@ TEST(ErrorMetrics, ProbeRelativeErrorWithFloor) {
   EXPECT_EQ(c.worst, 2u);
   EXPECT_NEAR(c.rms, std::sqrt((0.01 + 0.01 + 1.0) / 3), 1e-12);
   EXPECT_FALSE(c.has_se);
+  // Median of (0.1, 0.1, 1); signed errors of the channel means: +0.1/3 / 1,
+  // -0.2/3 / 2, +0.001/3 / 1e-3; bias their mean; one probe low.
+  EXPECT_NEAR(c.median, 0.1, 1e-12);
+  EXPECT_NEAR(c.probes[0].signed_error, 0.1 / 3, 1e-12);
+  EXPECT_NEAR(c.probes[1].signed_error, -0.2 / 3 / 2, 1e-12);
+  EXPECT_NEAR(c.probes[2].signed_error, 1.0 / 3, 1e-9);
+  EXPECT_NEAR(c.bias, (0.1 / 3 - 0.1 / 3 + 1.0 / 3) / 3, 1e-9);
+  EXPECT_EQ(c.low, 1u);
   // An explicit floor of 0.01 turns the dark probe's error into 0.001 / 0.01.
   const ProbeComparison f = compare_probes(parse_probe_table(kResult, "a.csv"),
                                            parse_probe_table(kRef, "r.csv"), 0.01);
@@ -211,6 +219,18 @@ TEST_F(ReferenceCli, ReferenceThenCompare) {
   const nlohmann::json c = nlohmann::json::parse(cj);
   EXPECT_EQ(c["probes"]["max"], 0.0);
   EXPECT_EQ(c["probes"]["within_2se"], 2);
+
+  // Random surface probes: written to probes.txt, which `solve --probes` reads back.
+  ASSERT_EQ(hrad("reference builtin:furnace --random-probes 5 --seed 3 --out rnd --rel-error 0.05 --quiet"), 0);
+  const ProbeTable rnd = read_probe_table(dir_ / "rnd");
+  ASSERT_EQ(rnd.probes.size(), 5u);
+  for (const Rgb& e : rnd.irradiance) EXPECT_NEAR(e[0], 2.0, 0.2);
+  ASSERT_EQ(hrad("solve builtin:furnace --probes rnd/probes.txt --out srnd"), 0);
+  EXPECT_EQ(hrad("compare srnd rnd --json r.json"), 0);
+  std::string none;
+  EXPECT_EQ(hrad("reference builtin:furnace --out neither", &none), 1);
+  EXPECT_NE(none.find("--random-probes"), std::string::npos) << none;
+  EXPECT_FALSE(fs::exists(dir_ / "neither"));
 
   ASSERT_EQ(hrad("reference builtin:furnace --probes q.txt --out one --rel-error 0.05 --quiet"), 0);
   std::string err;

@@ -1,6 +1,8 @@
 #include "core/probes.h"
 
+#include "core/builtin_scenes.h"
 #include "core/input_error.h"
+#include "core/scene.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -107,6 +109,38 @@ TEST(Probes, CsvHasHeaderAndNineSignificantDigits) {
             "0.333333333,-2.5e-07,1e+20,0,-1,0,0.666666667,1e-300,7\n");
   EXPECT_THROW(write_probes_csv(path, probes, {Rgb::Zero()}), std::invalid_argument);
   EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+// Random surface probes lie on the scene's faces (lifted by 1e-6 of the diagonal along
+// the face normal, which is theirs), spread by area, reproducible from the seed, and
+// round-trip through the probe file format.
+TEST(Probes, RandomSurfaceProbesLieOnFacesByArea) {
+  const Scene scene = make_builtin("builtin:furnace?objects=0");  // unit room, 6 faces
+  const auto a = random_surface_probes(scene, 600, 5);
+  const auto b = random_surface_probes(scene, 600, 5);
+  const auto c = random_surface_probes(scene, 600, 6);
+  ASSERT_EQ(a.size(), 600u);
+  const double lift = 1e-6 * scene.bounds().diagonal();
+  int per_face[6] = {0, 0, 0, 0, 0, 0};
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].p, b[i].p);
+    bool on_a_face = false;
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+      const Vec3 n = scene.face_normal(f);
+      const Vec3 v0 = scene.vertices[scene.indices[scene.faces[f].first]];
+      if ((a[i].n - n).norm() < 1e-12 && std::abs(n.dot(a[i].p - v0) - lift) < 1e-12) {
+        on_a_face = true;
+        ++per_face[f];
+      }
+    }
+    EXPECT_TRUE(on_a_face) << i;
+  }
+  // Six equal faces: 100 each expected, 5 sigma (about 46) allowed.
+  for (int n : per_face) EXPECT_NEAR(n, 100, 46);
+  EXPECT_NE(a[0].p, c[0].p);
+  const auto back = parse_probes(probes_text(a, "random"), "r.txt");
+  ASSERT_EQ(back.size(), a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_LT((back[i].p - a[i].p).norm(), 1e-8);
 }
 
 }  // namespace
