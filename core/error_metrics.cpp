@@ -2,6 +2,7 @@
 #include "core/error_metrics.h"
 
 #include "core/input_error.h"
+#include "core/median.h"
 #include "core/ray_scene.h"
 
 #include <fmt/format.h>
@@ -193,11 +194,9 @@ ProbeComparison compare_probes(const ProbeTable& a, const ProbeTable& r, double 
   c.mean = sum / n;
   c.rms = std::sqrt(sum2 / n);
   c.bias /= n;
-  std::vector<double> sorted;
-  for (const ProbeError& e : c.probes) sorted.push_back(e.rel_error);
-  std::sort(sorted.begin(), sorted.end());
-  const std::size_t m = sorted.size() / 2;
-  c.median = sorted.size() % 2 ? sorted[m] : 0.5 * (sorted[m - 1] + sorted[m]);
+  std::vector<double> errors;
+  for (const ProbeError& e : c.probes) errors.push_back(e.rel_error);
+  c.median = median(std::move(errors));
   return c;
 }
 

@@ -1,10 +1,11 @@
 // PathTracer: see path_tracer.h for the estimator, the batching and the stopping rule.
 #include "core/path_tracer.h"
 
+#include "core/clock.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <limits>
 #include <cmath>
 #include <numbers>
@@ -198,7 +199,7 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes,
     throw std::invalid_argument(fmt::format("max_samples {} is below batch_size x min_batches = {}",
                                             o.max_samples,
                                             static_cast<std::uint64_t>(o.batch_size) * o.min_batches));
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   const std::uint64_t rays0 = rays_cast();
   const std::size_t np = probes.size();
   const std::uint64_t max_batches = o.max_samples / static_cast<std::uint64_t>(o.batch_size);
@@ -279,7 +280,7 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes,
                np ? static_cast<double>(converged) / static_cast<double>(np) : 1.0);
   }
   res.rays = rays_cast() - rays0;
-  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.seconds = seconds_since(t0);
   return res;
 }
 

@@ -3,7 +3,8 @@
 // Used by the lock pools and by the central schedulers.
 #pragma once
 
-#include <chrono>
+#include "core/clock.h"
+
 #include <cstdint>
 #include <mutex>
 
@@ -27,12 +28,12 @@ inline std::unique_lock<std::mutex> timed_lock(std::mutex& m, double& wait_s,
                                                std::uint64_t* contended = nullptr) {
   std::unique_lock lock(m, std::try_to_lock);
   if (!lock.owns_lock()) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     // Critical sections here last well under a microsecond: spin briefly before
     // sleeping in the kernel, whose wake-up costs more than the section itself.
     for (int i = 0; i < kSpinTries && !lock.try_lock(); ++i) cpu_relax();
     if (!lock.owns_lock()) lock.lock();
-    wait_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    wait_s += seconds_since(t0);
     if (contended) ++*contended;
   }
   return lock;

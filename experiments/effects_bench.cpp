@@ -12,12 +12,12 @@
 // mean: colour), the Cornell box without emission (emission), and the office with
 // shaft culling on against off (both with effects = auto).
 #include "core/builtin_scenes.h"
+#include "core/clock.h"
 #include "core/solver.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -36,10 +36,10 @@ struct Measured {
 Measured measure(const Scene& scene, const SolverOptions& o, int runs) {
   Measured m;
   for (int i = 0; i < runs; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = Clock::now();
     Solver s(scene, o);
     RunStats st = s.run();
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double t = seconds_since(t0);
     if (t < m.wall_s) {
       m.wall_s = t;
       m.stats = std::move(st);

@@ -34,12 +34,12 @@
 // Lock waits: takes never wait (the inbox is only try_lock'ed); only submits from a
 // non-owner thread can wait for the inbox lock, and those waits are what lock_wait_s
 // reports (normally 0).
+#include "core/clock.h"
 #include "schedulers/scheduler.h"
 #include "schedulers/ws_deque.h"
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <mutex>
 #include <thread>
 
@@ -103,10 +103,9 @@ class StealingScheduler final : public IScheduler {
     }
     std::unique_lock lock(inbox_mutex_, std::try_to_lock);
     if (!lock.owns_lock()) {
-      const auto t0 = std::chrono::steady_clock::now();
+      const auto t0 = Clock::now();
       lock.lock();
-      inbox_wait_s_ +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      inbox_wait_s_ += seconds_since(t0);
     }
     inbox_.insert(inbox_.end(), tasks.begin(), tasks.end());
     ++inbox_submits_;

@@ -1,6 +1,7 @@
 #include "experiments/harness/accuracy.h"
 
 #include "core/atomic_file.h"
+#include "core/clock.h"
 #include "core/path_tracer.h"
 #include "core/solver.h"
 
@@ -8,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cctype>
-#include <chrono>
 #include <stdexcept>
 
 namespace hrad::experiment {
@@ -114,10 +114,10 @@ SceneReference scene_reference(const fs::path& dir, const std::string& scene_spe
 
 AccuracyFigures measure_accuracy(const Solver& solver, const SceneReference& ref,
                                  const AccuracySpec& a) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   std::vector<Rgb> e = solver.probe_irradiance(ref.probes);
   AccuracyFigures f;
-  f.probe_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  f.probe_s = seconds_since(t0);
   const ProbeTable result{"run", ref.probes, std::move(e), {}};
   const ProbeComparison c = compare_probes(result, ref.table, a.floor);
   f.mean = c.mean;

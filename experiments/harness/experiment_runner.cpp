@@ -1,5 +1,6 @@
 #include "experiments/harness/experiment_runner.h"
 
+#include "core/clock.h"
 #include "core/progress.h"
 #include "core/scene_loader.h"
 #include "core/solver.h"
@@ -11,7 +12,6 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -21,12 +21,6 @@ namespace hrad::experiment {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
 // The existing folder must have been made by the same resolved configuration, and its
 // rows must name the same points: otherwise resuming would mix two experiments.
 void check_resumable(const nlohmann::ordered_json& manifest, const ManifestInputs& in,

@@ -1,20 +1,11 @@
 #include "experiments/harness/task_cost.h"
 
+#include "core/median.h"
 #include "core/options_io.h"
 
 #include <fmt/format.h>
 
-#include <algorithm>
-
 namespace hrad::experiment {
-
-namespace {
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-}  // namespace
 
 void TaskCostTable::add(const std::string& scene, const SolverOptions& options, double task_cpu_ns) {
   if (!(task_cpu_ns > 0)) return;

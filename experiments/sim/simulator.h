@@ -4,9 +4,10 @@
 // Each processor loops as core/refiner.cpp does: take up to block_size tasks, run them
 // (recorded durations × slowdown), spend block_ns, then submit the tasks the block
 // created in one operation; those become available when the submit releases the lock
-// (or the deque). Lock-like resources (the central lock, each stealing deque) are granted first come, first served, one holder at a time; an
-// operation's effect on the queue is applied in grant order, which equals request
-// order, so the queues are always consistent with the simulated clock.
+// (or the deque). Lock-like resources (the central lock, each stealing deque) are
+// granted first come, first served, one holder at a time; an operation's effect on
+// the queue is applied in grant order, which equals request order, so the queues are
+// always consistent with the simulated clock.
 //
 // Idle processors do not spin: a submit of k tasks wakes min(idle, ceil((size - B)/B))
 // of them (the submitter takes the next block itself), in the order they went idle; a
