@@ -27,6 +27,8 @@ namespace hrad {
 
 enum class ElementKind : std::uint8_t { Cluster, Surface };
 
+struct ClusterLight;
+
 struct Element {
   std::uint64_t id = 0;  ///< hash of the path from the root (stable across runs)
   Element* parent = nullptr;
@@ -43,6 +45,9 @@ struct Element {
   /// element that sees no geometry, estimated by rays (negative until estimated).
   float gather_scale = 1;
   float escape = -1;
+  /// Open fraction in [0, 1]: the share of the area that is not closed in by a
+  /// contact and so can exchange light (core/open_fraction.h); negative until set.
+  float open = -1;
   /// NUMA node (logical) of the arena memory holding this element, as the arena
   /// counts it (core/node_arena.h); set at allocation. Uses what was padding.
   std::uint16_t home_node = 0;
@@ -61,10 +66,8 @@ struct Element {
   Rgb gathered = Rgb::Zero();   ///< irradiance gathered over this element's own links
   Rgb next = Rgb::Zero();       ///< scratch for the Jacobi update
   LinkList links;               ///< links where this element is the receiver (core/link_list.h)
-  /// Clusters, with cluster_receiver = cosine only: irradiance arriving along +x, -x,
-  /// +y, -y, +z, -z (on a unit surface facing that way), gathered here plus all that
-  /// the cluster's ancestors gathered; allocated by the propagation.
-  std::unique_ptr<std::array<Rgb, 6>> directional;
+  /// Clusters: the propagation's directional state (below); allocated by it.
+  std::unique_ptr<ClusterLight> light;
 
   [[nodiscard]] bool is_cluster() const { return kind == ElementKind::Cluster; }
   [[nodiscard]] std::span<const Vec3> corners() const {
@@ -86,6 +89,36 @@ struct Element {
   /// Radius of the bounding sphere around `center` (a cheap size for near-field tests).
   [[nodiscard]] double radius() const {
     return std::max((box.hi - center).norm(), (box.lo - center).norm());
+  }
+};
+
+/// What the propagation keeps per cluster, by axis direction +x, -x, +y, -y, +z, -z.
+struct ClusterLight {
+  /// cluster_receiver = cosine only: irradiance arriving along each direction (on a
+  /// unit surface facing that way), gathered here plus all that the cluster's
+  /// ancestors gathered.
+  std::array<Rgb, 6> arriving{};
+  /// Radiosity leaving towards each direction: sum over the member polygons of open
+  /// area x max(0, +-n_axis) x B, and the same sum without B. A link from the cluster
+  /// carries, along its direction d, sum_i |d_i| leaving / sum_i |d_i| open_area: the
+  /// radiosity of the members that face d, not the mean of all of them (a desk shows
+  /// the ceiling its lit top, not the mean of its top and its dark underside).
+  std::array<Rgb, 6> leaving{};
+  std::array<Rgb, 6> leaving_next{};
+  std::array<double, 6> open_area{};
+  bool leaving_made = false;  ///< `leaving` holds the sums of a finished sweep
+  /// The radiosity this cluster shows along the unit direction d (its mean B when no
+  /// member faces d or the sums are not yet made).
+  [[nodiscard]] Rgb radiosity_towards(const Vec3& d, const Rgb& mean) const {
+    if (!leaving_made) return mean;
+    Rgb p = Rgb::Zero();
+    double a = 0;
+    for (int i = 0; i < 3; ++i) {
+      const auto k = static_cast<std::size_t>(2 * i + (d[i] < 0));
+      p += std::abs(d[i]) * leaving[k];
+      a += std::abs(d[i]) * open_area[k];
+    }
+    return a > 0 ? Rgb(p / a) : mean;
   }
 };
 

@@ -74,12 +74,29 @@ Partition partition(const std::vector<Element*>& elements, int threads) {
   return p;
 }
 
+// The element's open fraction as a weight (1 until it is estimated).
+double open_weight(const Element& e) { return e.open < 0 ? 1.0 : static_cast<double>(e.open); }
+
+// What an element's own links deliver, per unit of its whole area, becomes per unit
+// of open area: the links' visibility already counted the closed-in part as blocked.
+// A mostly closed-in leaf is divided by at most 1 / kMinOpen, so that the noise of its
+// few open samples (its w comes from kOpenPoints points, its links' visibility from a
+// few rays) is not blown up; a wholly closed-in element gathers nothing. A parent's w
+// is a mean over its children, not a small sample, and is used as it is.
+constexpr double kMinOpen = 0.25;
+double open_gain(const Element& e) {
+  const double w = open_weight(e);
+  if (w <= 0) return 0.0;
+  const bool leaf = !e.is_cluster() && e.child_span().empty();
+  return 1.0 / (leaf ? std::max(w, kMinOpen) : w);
+}
+
 void push_one(Element* e, bool cosine) {
   e->next = e->gathered + (e->parent ? e->parent->next : Rgb::Zero());
   if (!cosine || !e->parent || !e->parent->is_cluster()) return;
-  const std::array<Rgb, 6>& up = *e->parent->directional;
+  const std::array<Rgb, 6>& up = e->parent->light->arriving;
   if (e->is_cluster()) {
-    for (std::size_t k = 0; k < 6; ++k) (*e->directional)[k] += up[k];
+    for (std::size_t k = 0; k < 6; ++k) e->light->arriving[k] += up[k];
   } else {
     for (int a = 0; a < 3; ++a) {
       const double na = e->normal[a];
@@ -89,31 +106,62 @@ void push_one(Element* e, bool cosine) {
   }
 }
 
+// A parent's radiosity is the mean of its children's over their open area
+// (core/open_fraction.h): a closed-in part shows no radiosity to anyone.
 void pull_one(Element& e) {
   const auto kids = e.child_span();
   if (kids.empty()) {
     e.next = e.emission + e.rho * (static_cast<double>(e.gather_scale) * e.next);
   } else {
-    Rgb sum = Rgb::Zero();
-    for (const Element& k : kids) sum += k.area * k.next;
-    e.next = e.area > 0 ? Rgb(sum / e.area) : Rgb::Zero();
+    if (e.is_cluster()) {
+      // What leaves the cluster along each axis direction (see ClusterLight).
+      ClusterLight& cl = *e.light;
+      cl.leaving_next.fill(Rgb::Zero());
+      for (const Element& k : kids) {
+        if (k.is_cluster()) {
+          for (std::size_t j = 0; j < 6; ++j) cl.leaving_next[j] += k.light->leaving_next[j];
+          continue;
+        }
+        const double w = k.area * open_weight(k);
+        for (int a = 0; a < 3; ++a) {
+          cl.leaving_next[static_cast<std::size_t>(2 * a)] += w * std::max(0.0, k.normal[a]) * k.next;
+          cl.leaving_next[static_cast<std::size_t>(2 * a + 1)] += w * std::max(0.0, -k.normal[a]) * k.next;
+        }
+      }
+    }
+    Rgb sum = Rgb::Zero(), plain = Rgb::Zero();
+    double open_area = 0;
+    for (const Element& k : kids) {
+      const double w = k.area * open_weight(k);
+      sum += w * k.next;
+      open_area += w;
+      plain += k.area * k.next;
+    }
+    // Wholly closed in: the plain mean (nobody sees it either way).
+    e.next = open_area > 0 ? Rgb(sum / open_area) : e.area > 0 ? Rgb(plain / e.area) : Rgb::Zero();
   }
 }
 
 // Gathers at one element: its own links' value(link) summed into `gathered`, or, for a
-// cluster in Cosine mode, split along the axes into `directional`.
+// cluster in Cosine mode, split along the axes into `light->arriving`.
 template <class Value>
-void gather_one(Element& e, bool cosine, const Value& value) {
+void gather_one(Element& e, bool cosine, const Value& value, bool open_area = true) {
   if (cosine && e.is_cluster()) {
-    // Undo the link's mean cosine (projected_area / area) and split the irradiance
-    // a unit surface facing the source would get along the axes.
-    std::array<Rgb, 6>& dir = *e.directional;
+    // Undo the link's mean cosine and split the irradiance a unit surface facing the
+    // source would get along the axes. The mean cosine is over the members' open area
+    // (or their whole area, without open_area), so the members' open parts receive in
+    // total what the link delivers to the cluster.
+    const ClusterLight& cl = *e.light;
+    std::array<Rgb, 6>& dir = e.light->arriving;
     dir.fill(Rgb::Zero());
     for (const Link& l : e.links) {
       const Vec3 d = (l.source->center - e.center).normalized();
-      const double mean_cos = e.area > 0 ? e.projected_area(d) / e.area : 0.0;
-      if (!(mean_cos > 0)) continue;
-      const Rgb facing = value(l) / mean_cos;
+      double projected = 0;
+      for (int a = 0; a < 3; ++a)
+        projected += std::abs(d[a]) * (open_area ? cl.open_area[static_cast<std::size_t>(2 * a + (d[a] < 0))]
+                                                 : static_cast<double>(e.dir_area[static_cast<std::size_t>(2 * a + (d[a] < 0))]));
+      if (!(projected > 0)) continue;
+      const Rgb facing = value(l) * (e.area / projected);
       for (int a = 0; a < 3; ++a)
         dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
     }
@@ -122,7 +170,7 @@ void gather_one(Element& e, bool cosine, const Value& value) {
   }
   Rgb g = Rgb::Zero();
   for (const Link& l : e.links) g += value(l);
-  e.gathered = g;
+  e.gathered = (open_area ? open_gain(e) : 1.0) * g;
 }
 
 struct alignas(64) SweepChange {
@@ -163,6 +211,10 @@ SweepChange run_pass(const std::vector<Element*>& el, const Partition& p, bool c
           c.change = std::max(c.change, (e.next - e.B).abs().maxCoeff());
           c.largest = std::max(c.largest, e.next.abs().maxCoeff());
           e.B = e.next;
+          if (e.light) {
+            e.light->leaving = e.light->leaving_next;
+            e.light->leaving_made = true;
+          }
         });
     }
   }
@@ -174,13 +226,40 @@ SweepChange run_pass(const std::vector<Element*>& el, const Partition& p, bool c
   return total;
 }
 
-void allocate_directional(const std::vector<Element*>& elements, bool cosine) {
-  if (!cosine) return;
-  for (Element* e : elements)
-    if (e->is_cluster() && !e->directional) e->directional = std::make_unique<std::array<Rgb, 6>>();
+// Allocates every cluster's ClusterLight and sums its members' open area by axis
+// direction (children after parents in `elements`: walk backwards).
+void prepare_clusters(const std::vector<Element*>& elements) {
+  for (auto it = elements.rbegin(); it != elements.rend(); ++it) {
+    Element& e = **it;
+    if (!e.is_cluster()) continue;
+    if (!e.light) e.light = std::make_unique<ClusterLight>();
+    std::array<double, 6>& oa = e.light->open_area;
+    oa.fill(0);
+    for (const Element& k : e.child_span()) {
+      if (k.is_cluster()) {
+        for (std::size_t j = 0; j < 6; ++j) oa[j] += k.light->open_area[j];
+        continue;
+      }
+      const double w = k.area * open_weight(k);
+      for (int a = 0; a < 3; ++a) {
+        oa[static_cast<std::size_t>(2 * a)] += w * std::max(0.0, k.normal[a]);
+        oa[static_cast<std::size_t>(2 * a + 1)] += w * std::max(0.0, -k.normal[a]);
+      }
+    }
+  }
 }
 
-// One sweep; the clusters' directional arrays must be allocated (Cosine mode).
+// The radiosity a link's source shows its receiver `r`: a surface's B, a cluster's
+// along the direction from it to r (ClusterLight).
+Rgb source_radiosity(const Link& l, const Element& r) {
+  const Element& s = *l.source;
+  if (!s.light) return s.B;
+  const Vec3 d = r.center - s.center;
+  const double n = d.norm();
+  return n > 0 ? s.light->radiosity_towards(d / n, s.B) : s.B;
+}
+
+// One sweep; the clusters' ClusterLight must be allocated.
 double sweep(const std::vector<Element*>& elements, const Partition& p, ClusterReceiver mode,
              bool grey) {
   const bool cosine = mode == ClusterReceiver::Cosine;
@@ -189,12 +268,14 @@ double sweep(const std::vector<Element*>& elements, const Partition& p, ClusterR
     // One channel: the same products and sums as channel 0 of the Rgb gather.
     c = run_pass(elements, p, false, true, [](Element& e) {
       double g = 0;
-      for (const Link& l : e.links) g += l.transport() * l.source->B[0];
-      e.gathered = Rgb::Constant(g);
+      for (const Link& l : e.links) g += l.transport() * source_radiosity(l, e)[0];
+      e.gathered = Rgb::Constant(open_gain(e) * g);
     });
   } else {
-    const auto value = [](const Link& l) -> Rgb { return l.transport() * l.source->B; };
-    c = run_pass(elements, p, cosine, true, [&](Element& e) { gather_one(e, cosine, value); });
+    c = run_pass(elements, p, cosine, true, [&](Element& e) {
+      gather_one(e, cosine,
+                 [&](const Link& l) -> Rgb { return l.transport() * source_radiosity(l, e); });
+    });
   }
   return c.largest > 0 ? c.change / c.largest : 0.0;
 }
@@ -202,16 +283,17 @@ double sweep(const std::vector<Element*>& elements, const Partition& p, ClusterR
 }  // namespace
 
 void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
-                     const std::function<Rgb(const Link&)>& value) {
+                     const std::function<Rgb(const Link&)>& value, bool open_area) {
   const bool cosine = mode == ClusterReceiver::Cosine;
-  allocate_directional(elements, cosine);
+  prepare_clusters(elements);
   const Partition p = partition(elements, threads);
-  run_pass(elements, p, cosine, false, [&](Element& e) { gather_one(e, cosine, value); });
+  run_pass(elements, p, cosine, false,
+           [&](Element& e) { gather_one(e, cosine, value, open_area); });
 }
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads,
                          ClusterReceiver mode, bool grey) {
-  allocate_directional(elements, mode == ClusterReceiver::Cosine);
+  prepare_clusters(elements);
   return sweep(elements, partition(elements, threads), mode, grey);
 }
 
@@ -219,7 +301,7 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
                             int max_sweeps, int threads, ClusterReceiver mode, bool grey) {
   PropagationResult r;
   const Partition parts = partition(elements, threads);  // links do not change here
-  allocate_directional(elements, mode == ClusterReceiver::Cosine);
+  prepare_clusters(elements);
   double previous = 0;
   int growing = 0;
   while (r.sweeps < max_sweeps) {

@@ -1,10 +1,11 @@
 // Propagation: gather over the links, then push-pull through the hierarchy,
 // repeated (Jacobi) until the radiosity stops changing.
 //
-// Gather:    g_e = sum over e's links of transport * B_source   (irradiance)
+// Gather:    g_e = sum over e's links of transport * B_source   (irradiance),
+//            divided by e's open fraction w_e (core/open_fraction.h)
 // Push:      H_e = H_parent + g_e                                (top-down)
 // Leaf:      B'  = E + rho * s * H      (s: row-sum correction, 1 when off)
-// Pull:      B'_e = area-weighted mean of the children's B'      (bottom-up)
+// Pull:      B'_e = open-area-weighted mean of the children's B'  (bottom-up)
 //
 // Stopping: with c_k the largest change of a sweep relative to the largest
 // radiosity and q the observed contraction c_k / c_{k-1}, the remaining change of
@@ -39,9 +40,11 @@ ClusterReceiver parse_cluster_receiver(const std::string& name);
 /// Gather + push: sets `next` of every element to the total irradiance H it
 /// receives from its own and its ancestors' links, each link contributing
 /// value(link) (per unit of transport: transport() x B_source for radiosity,
-/// transport() for row sums). `elements` lists parents before children.
+/// transport() for row sums). `elements` lists parents before children. With
+/// `open_area` (as the propagation does) the result is per unit of open area
+/// (core/open_fraction.h); without, per unit of area.
 void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
-                     const std::function<Rgb(const Link&)>& value);
+                     const std::function<Rgb(const Link&)>& value, bool open_area = true);
 
 /// `elements` must list parents before children (Hierarchy::elements()).
 /// `grey`: every radiosity, emission and reflectance has equal channels (a grey

@@ -127,6 +127,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   double error = 0;
   bool accept = false;
   bool split_r = false;
+  bool straddle = false;  // F is zero but the pair straddles: split it (below)
   if (must_refine) {
     const bool can_r = splittable(r), can_s = splittable(s);
     if (pc == PairClass::ReceiverInside) {
@@ -155,20 +156,33 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
     if (!task.evaluated) {
       est.form_factor = transport_.form_factor(r, s);
       if (est.form_factor <= 0) {
-        ++w.c.culled;
-        w.c.rays_skipped += static_cast<std::uint64_t>(k);
-        return;
+        // classify() found part of each element in front of the other, so a zero
+        // at the receiver's quadrature points (or along a cluster's centre
+        // direction) does not mean that no light passes: such a pair is split while
+        // it can be, and only then dropped. (Dropping it at once lost 0.3-1 % of the
+        // hemisphere of the leaves in scenes with objects in contact.)
+        const bool can_r = splittable(r), can_s = splittable(s);
+        if (!can_r && !can_s) {
+          ++w.c.culled;
+          w.c.rays_skipped += static_cast<std::uint64_t>(k);
+          return;
+        }
+        straddle = true;
+        split_r = can_r && (!can_s || refine_receiver(r, s));
+      } else {
+        est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped);
       }
-      est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped);
     }
-    if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
-    const Verdict v = oracle_.judge(est, OracleThresholds{limits_.eps_power});
-    error = v.error;
-    const bool can_r = splittable(r), can_s = splittable(s);
-    if (v.decision == Decision::Accept || (!can_r && !can_s)) {
-      accept = true;
-    } else {
-      split_r = can_r && (!can_s || refine_receiver(r, s));
+    if (!straddle) {
+      if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
+      const Verdict v = oracle_.judge(est, OracleThresholds{limits_.eps_power});
+      error = v.error;
+      const bool can_r = splittable(r), can_s = splittable(s);
+      if (v.decision == Decision::Accept || (!can_r && !can_s)) {
+        accept = true;
+      } else {
+        split_r = can_r && (!can_s || refine_receiver(r, s));
+      }
     }
   }
 

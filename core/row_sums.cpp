@@ -56,23 +56,43 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
   RowSumStats st;
   // Push the transport totals down like irradiance from a unit radiosity: `next` is
   // scratch here (propagation overwrites it).
-  gather_and_push(elements, receiver, threads,
-                  [](const Link& l) -> Rgb { return Rgb::Constant(l.transport()); });
+  const auto unit = [](const Link& l) -> Rgb { return Rgb::Constant(l.transport()); };
+  // First per unit of area, as the links give it, then per unit of open area, as the
+  // propagation gathers (core/open_fraction.h).
+  gather_and_push(elements, receiver, threads, unit, false);
+  std::vector<double> plain(elements.size());
+  for (std::size_t i = 0; i < elements.size(); ++i) plain[i] = elements[i]->next[0];
+  gather_and_push(elements, receiver, threads, unit, true);
   std::vector<Element*> leaves;
   double area = 0;
   st.min = std::numeric_limits<double>::infinity();
-  for (Element* e : elements) {
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    Element* e = elements[i];
     e->gather_scale = 1;
     if (e->is_cluster() || !e->child_span().empty()) continue;
     leaves.push_back(e);
     const double s = e->next[0];
-    st.min = std::min(st.min, s);
-    st.max = std::max(st.max, s);
-    st.area_mean += e->area * s;
-    area += e->area;
+    // The open-area gain must not lift a leaf above a whole hemisphere (or above what
+    // its links give without it, if that is more already): where an estimated open
+    // fraction is lower than its links' visibility says (two contacts that coincide
+    // with both ends of a segment let it pass through a solid), it would.
+    const double cap = std::max(1.0, plain[i]);
+    if (s > cap) {
+      e->gather_scale = static_cast<float>(cap / s);
+      ++st.open_capped;
+    }
+    // The statistics are over the open area, where the row sum means something.
+    const double open = e->open < 0 ? 1.0 : static_cast<double>(e->open);
+    if (open <= 0) continue;
+    const double used = static_cast<double>(e->gather_scale) * s;
+    st.min = std::min(st.min, used);
+    st.max = std::max(st.max, used);
+    st.area_mean += e->area * open * used;
+    area += e->area * open;
   }
   if (area > 0) st.area_mean /= area;
-  if (leaves.empty()) st.min = 0;
+  if (area <= 0) st.min = 0;
+  st.corrected = st.open_capped;
   if (mode == RowSumMode::Keep) return st;
 
   std::uint64_t rays_cast = 0;
@@ -80,7 +100,7 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 64) reduction(+ : rays_cast)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     Element& e = *leaves[static_cast<std::size_t>(i)];
-    const double s = e.next[0];
+    const double s = static_cast<double>(e.gather_scale) * e.next[0];
     double target = 1;
     if (mode == RowSumMode::Normalize) {
       if (e.escape < 0) {
@@ -88,11 +108,12 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
         rays_cast += static_cast<std::uint64_t>(escape_rays);
       }
       target = 1.0 - e.escape;
-      if (s > 0) e.gather_scale = static_cast<float>(target / s);
+      if (s > 0) e.gather_scale *= static_cast<float>(target / s);
     } else if (s > target) {
-      e.gather_scale = static_cast<float>(target / s);
+      e.gather_scale *= static_cast<float>(target / s);
     }
   }
+  st.corrected = 0;
   for (const Element* e : leaves) st.corrected += e->gather_scale != 1.0f ? 1 : 0;
   st.rays_cast = rays_cast;
   return st;

@@ -43,6 +43,8 @@ RowSumMode parse_row_sum_mode(const std::string& name);
 struct RowSumStats {
   double min = 0, max = 0, area_mean = 0;  ///< of the uncorrected leaf row sums
   std::uint64_t corrected = 0;             ///< leaves whose gather_scale is not 1
+  /// Leaves whose open-area gain was capped (see apply_row_sums), in every mode.
+  std::uint64_t open_capped = 0;
   std::uint64_t rays_cast = 0;             ///< escape rays cast by this call
 };
 

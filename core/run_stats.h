@@ -81,6 +81,10 @@ struct IterationStats {
   /// Leaf row sums (total transport gathered, see core/row_sums.h), uncorrected.
   double row_sum_min = 0, row_sum_max = 0, row_sum_mean = 0;
   std::uint64_t row_sum_corrected = 0;  ///< leaves whose gathered irradiance was rescaled
+  /// Open fractions (core/open_fraction.h): rays cast for them this iteration (also in
+  /// rays_cast) and the open share of the leaves' area (1 - closed in by contacts).
+  std::uint64_t open_rays = 0;
+  double open_area_fraction = 1;
 };
 
 struct RunTotals {

@@ -14,6 +14,7 @@
 #include "core/row_sums.h"
 #include "core/trace.h"
 #include "core/transport.h"
+#include "core/open_fraction.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 
@@ -196,6 +197,11 @@ RunStats Solver::run() {
                                base + 0.8 / o.iterations);
     t0 = Clock::now();
     std::vector<Element*> elements = m.hierarchy.elements();
+    const OpenStats open = update_open_fractions(elements, m.hierarchy, m.rays, o.seed, o.threads,
+                                                 m.effects.visibility.on);
+    is.rays_cast += open.rays_cast;
+    is.open_rays = open.rays_cast;
+    is.open_area_fraction = open.area_fraction;
     const RowSumStats rs = apply_row_sums(elements, m.row_sum_mode, m.receiver_mode, m.hierarchy,
                                           m.rays, o.row_sum_rays, o.seed, o.threads);
     is.rays_cast += rs.rays_cast;

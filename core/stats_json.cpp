@@ -96,6 +96,7 @@ nlohmann::json iteration_json(const IterationStats& it) {
         {"max", number(it.row_sum_max)},
         {"area_mean", number(it.row_sum_mean)},
         {"corrected", it.row_sum_corrected}}},
+      {"open", {{"rays", it.open_rays}, {"area_fraction", number(it.open_area_fraction)}}},
   };
 }
 

@@ -74,6 +74,7 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"max_change", Kind::Number},      {"peak_parallelism", Kind::Integer},
       {"bytes_per_link", Kind::Number},  {"bytes_per_element", Kind::Number},
       {"row_sums", Kind::Object},        {"steals", Kind::Integer},
+      {"open", Kind::Object},
       {"refiners", Kind::Array},         {"load_s", Kind::Number},
       {"bytes_per_node", Kind::Array},   {"local_access_ratio", Kind::Number},
       {"element_bytes_per_node", Kind::Array}, {"link_bytes_per_node", Kind::Array},

@@ -88,6 +88,7 @@ void iteration_figures(Cells& c, const IterationStats& it) {
   c.add("rays_skipped", num(it.rays_skipped));
   c.add("gather_sweeps", num(it.gather_sweeps));
   c.add("max_change", num(it.max_change));
+  c.add("open_area_fraction", num(it.open_area_fraction));
 }
 
 void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,

@@ -1,0 +1,103 @@
+#include "core/open_fraction.h"
+
+#include "core/hierarchy.h"
+#include "core/ray_scene.h"
+#include "core/transport.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace hrad {
+
+namespace {
+
+// Whether the first surface along the ray is the back of a face. Two faces that
+// coincide (a box pushed into a corner: its side and the wall lie in one plane)
+// are met at the same distance, and the ray query reports either; a back face there
+// wins, since the point is inside the box whichever is reported.
+bool first_hit_is_back(const Vec3& at, const Vec3& dir, std::uint32_t own, const Hierarchy& h,
+                       const RayScene& rays) {
+  const auto hit = rays.intersect(at, dir, std::numeric_limits<double>::infinity(), own);
+  if (!hit) return false;
+  if (h.face_normal(hit->prim).dot(dir) > 0) return true;
+  // Look again just around the front hit, without it, for a coincident back face.
+  const double back_off = 4 * RayScene::kEndpointEpsilon * rays.scale() / dir.norm();
+  // (Not from behind the start: the point's own face would be met there.)
+  const double start = std::max(hit->t - back_off, 0.0);
+  const auto twin = rays.intersect(at + start * dir, dir, hit->t - start + back_off, hit->prim);
+  return twin && h.face_normal(twin->prim).dot(dir) > 0;
+}
+
+}  // namespace
+
+double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, const RayScene& rays,
+                              std::uint64_t seed) {
+  const Vec3 u = e.normal.unitOrthogonal();
+  const Vec3 v = e.normal.cross(u);
+  const std::uint64_t key = child_id(e.id, 0x0BE7u) ^ seed;
+  constexpr int kSide = 4;  // kOpenPoints = kSide^2 strata over the element
+  static_assert(kSide * kSide == kOpenPoints);
+  int open = 0;
+  for (int p = 0; p < kOpenPoints; ++p) {
+    const auto i = static_cast<std::uint64_t>(p * (3 + 2 * kOpenRays));
+    const double u1 = (p % kSide + hashed_uniform(key, i)) / kSide;
+    const double u2 = (p / kSide + hashed_uniform(key, i + 1)) / kSide;
+    const Vec3 at = hierarchy.sample_point(e, u1, u2, hashed_uniform(key, i + 2));
+    int back = 0;
+    for (int k = 0; k < kOpenRays; ++k) {
+      const auto j = i + 3 + static_cast<std::uint64_t>(2 * k);
+      // Directions stratified in azimuth, cosine-distributed in elevation.
+      const double r1 = hashed_uniform(key, j);
+      const double phi = 2 * std::numbers::pi * (k + hashed_uniform(key, j + 1)) / kOpenRays;
+      const double r = std::sqrt(r1);
+      const Vec3 dir = r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(1 - r1) * e.normal;
+      if (first_hit_is_back(at, dir, e.face, hierarchy, rays)) ++back;
+    }
+    if (2 * back <= kOpenRays) ++open;
+  }
+  return static_cast<double>(open) / kOpenPoints;
+}
+
+OpenStats update_open_fractions(const std::vector<Element*>& elements,
+                                const Hierarchy& hierarchy, const RayScene& rays,
+                                std::uint64_t seed, int threads, bool possible) {
+  OpenStats st;
+  std::uint64_t cast = 0;
+  const auto n = static_cast<std::ptrdiff_t>(elements.size());
+  if (!possible) {
+    for (Element* e : elements) e->open = 1;
+    return st;
+  }
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) reduction(+ : cast)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Element& e = *elements[static_cast<std::size_t>(i)];
+    if (e.is_cluster() || !e.child_span().empty() || e.open >= 0) continue;
+    e.open = static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed));
+    cast += static_cast<std::uint64_t>(kOpenPoints * kOpenRays);
+  }
+  // Children after parents in `elements`: walk backwards.
+  for (std::ptrdiff_t i = n; i-- > 0;) {
+    Element& e = *elements[static_cast<std::size_t>(i)];
+    const auto kids = e.child_span();
+    if (kids.empty()) {
+      if (e.is_cluster()) e.open = 1;  // an empty cluster: nothing to close in
+      continue;
+    }
+    double a = 0;
+    for (const Element& c : kids) a += c.area * static_cast<double>(c.open);
+    e.open = e.area > 0 ? static_cast<float>(std::min(1.0, a / e.area)) : 1.0f;
+  }
+  st.rays_cast = cast;
+  double area = 0, open = 0;
+  for (const Element* e : elements) {
+    if (e->is_cluster() || !e->child_span().empty()) continue;
+    area += e->area;
+    open += e->area * static_cast<double>(e->open);
+  }
+  if (area > 0) st.area_fraction = open / area;
+  return st;
+}
+
+}  // namespace hrad

@@ -1,0 +1,71 @@
+// Open fractions (core/open_fraction.h): the parts of faces closed in by contacts.
+#include "core/builtin_scenes.h"
+#include "core/hierarchy.h"
+#include "core/lock_pool.h"
+#include "core/open_fraction.h"
+#include "core/ray_scene.h"
+
+#include <gtest/gtest.h>
+
+namespace hrad {
+namespace {
+
+// In the cluttered furnace, a box stands in the floor's corner on [0.8, 1] x [0, 1]
+// in x and z. Floor elements three levels down (cells of 0.125 m of the 1 m floor)
+// wholly under it are closed in (w = 0), those far from every box are open (w = 1),
+// and an interior element's w is the area-weighted mean of its children's.
+TEST(OpenFraction, FloorUnderABoxIsClosedInAndOpenElsewhere) {
+  const Scene scene = make_builtin("builtin:furnace?objects=2");
+  Hierarchy h(scene, 1);
+  const RayScene rays = RayScene::from_scene(scene);
+  LockPool locks(2, 1);
+  Element* floor = nullptr;
+  for (Element* e : h.elements())
+    if (!e->is_cluster() && e->depth == 0 && e->normal.y() > 0.99 && e->center.y() < 1e-9 &&
+        e->area > 0.99)
+      floor = e;
+  ASSERT_NE(floor, nullptr);
+  std::vector<Element*> grand;
+  for (Element& k : h.subdivide(*floor, 0, locks))
+    for (Element& g : h.subdivide(k, 0, locks))
+      for (Element& c : h.subdivide(g, 0, locks)) grand.push_back(&c);
+  ASSERT_EQ(grand.size(), 64u);
+  int under = 0, clear = 0;
+  for (const Element* g : grand) {
+    const double w = estimate_open_fraction(*g, h, rays, 1);
+    EXPECT_GE(w, 0.0);
+    EXPECT_LE(w, 1.0);
+    if (g->box.lo.x() >= 0.8 - 1e-9 && g->box.lo.z() >= 0.8 - 1e-9) {
+      ++under;  // wholly under the corner box ([0.8, 1]^2 footprint)
+      EXPECT_EQ(w, 0.0) << "centre " << g->center.transpose();
+    }
+    if (g->box.hi.x() <= 0.125 + 1e-9 && g->box.lo.z() >= 0.25 - 1e-9 && g->box.hi.z() <= 0.375 + 1e-9) {
+      ++clear;  // [0, 0.125] x [0.25, 0.375]: no box stands there
+      EXPECT_EQ(w, 1.0) << "centre " << g->center.transpose();
+    }
+  }
+  EXPECT_EQ(clear, 1);
+  EXPECT_EQ(under, 1);
+
+  std::vector<Element*> all = h.elements();
+  const OpenStats st = update_open_fractions(all, h, rays, 1, 1, true);
+  EXPECT_GT(st.rays_cast, 0u);
+  EXPECT_LT(st.area_fraction, 1.0);
+  EXPECT_GT(st.area_fraction, 0.85);
+  for (const Element* e : all) {
+    ASSERT_GE(e->open, 0.0f);
+    ASSERT_LE(e->open, 1.0f);
+    const auto kids = e->child_span();
+    if (kids.empty()) continue;
+    double a = 0;
+    for (const Element& k : kids) a += k.area * static_cast<double>(k.open);
+    EXPECT_NEAR(e->open, a / e->area, 1e-6);
+  }
+  // Nothing can be closed in: every element open, no ray.
+  const OpenStats none = update_open_fractions(all, h, rays, 1, 1, false);
+  EXPECT_EQ(none.rays_cast, 0u);
+  for (const Element* e : all) ASSERT_EQ(e->open, 1.0f);
+}
+
+}  // namespace
+}  // namespace hrad
