@@ -17,6 +17,7 @@
 #include "core/geometry.h"
 #include "core/link_list.h"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <memory>
@@ -107,20 +108,33 @@ struct ClusterLight {
   std::array<Rgb, 6> leaving_next{};
   std::array<double, 6> open_area{};
   bool leaving_made = false;  ///< `leaving` holds the sums of a finished sweep
-  /// The radiosity this cluster shows along the unit direction d (its mean B when no
-  /// member faces d or the sums are not yet made).
+  /// The members' open area projected along d: sum_i |d_i| open_area (times |d|).
+  [[nodiscard]] double projected_open_area(const Vec3& d) const {
+    double a = 0;
+    for (int i = 0; i < 3; ++i) a += std::abs(d[i]) * open_area[static_cast<std::size_t>(2 * i + (d[i] < 0))];
+    return a;
+  }
+  /// The radiosity this cluster shows along the direction d (of any non-zero length:
+  /// the ratio does not depend on it); its mean B when no member faces d or the sums
+  /// are not yet made.
   [[nodiscard]] Rgb radiosity_towards(const Vec3& d, const Rgb& mean) const {
     if (!leaving_made) return mean;
     Rgb p = Rgb::Zero();
-    double a = 0;
-    for (int i = 0; i < 3; ++i) {
-      const auto k = static_cast<std::size_t>(2 * i + (d[i] < 0));
-      p += std::abs(d[i]) * leaving[k];
-      a += std::abs(d[i]) * open_area[k];
-    }
+    for (int i = 0; i < 3; ++i) p += std::abs(d[i]) * leaving[static_cast<std::size_t>(2 * i + (d[i] < 0))];
+    const double a = projected_open_area(d);
     return a > 0 ? Rgb(p / a) : mean;
   }
 };
+
+/// Adds x times max(0, +-n_i) to the +-i entries of a per-axis-direction array
+/// (+x, -x, +y, -y, +z, -z), as ClusterLight's sums are made.
+template <class T>
+void add_by_axis(std::array<T, 6>& sums, const Vec3& n, const T& x) {
+  for (int a = 0; a < 3; ++a) {
+    sums[static_cast<std::size_t>(2 * a)] += std::max(0.0, n[a]) * x;
+    sums[static_cast<std::size_t>(2 * a + 1)] += std::max(0.0, -n[a]) * x;
+  }
+}
 
 /// True when a is b or an ancestor of b.
 inline bool contains(const Element* a, const Element* b) {

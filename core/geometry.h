@@ -56,6 +56,14 @@ inline Vec3 polygon_normal(std::span<const Vec3> p) {
   return n > 0 ? Vec3(a / n) : Vec3::Zero();
 }
 
+/// A cosine-distributed direction about the unit normal n, in the orthonormal frame
+/// (u, v, n), from two numbers in [0, 1): sin^2 of the angle from n is r1, the
+/// azimuth 2 pi r2.
+inline Vec3 cosine_direction(const Vec3& n, const Vec3& u, const Vec3& v, double r1, double r2) {
+  const double r = std::sqrt(r1), phi = 2 * 3.14159265358979323846 * r2;
+  return r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(1 - r1) * n;
+}
+
 inline Vec3 polygon_centroid(std::span<const Vec3> p) {
   // Area-weighted centroid via a fan from the first vertex (exact for planar convex).
   if (p.size() == 3) return (p[0] + p[1] + p[2]) / 3.0;

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 namespace hrad {
 
@@ -16,12 +15,15 @@ namespace {
 // Whether the first surface along the ray is the back of a face. Two faces that
 // coincide (a box pushed into a corner: its side and the wall lie in one plane)
 // are met at the same distance, and the ray query reports either; a back face there
-// wins, since the point is inside the box whichever is reported.
+// wins, since the point is inside the box whichever is reported. Adds the rays it
+// cast (one or two) to `cast`.
 bool first_hit_is_back(const Vec3& at, const Vec3& dir, std::uint32_t own, const Hierarchy& h,
-                       const RayScene& rays) {
+                       const RayScene& rays, std::uint64_t& cast) {
+  ++cast;
   const auto hit = rays.intersect(at, dir, std::numeric_limits<double>::infinity(), own);
   if (!hit) return false;
   if (h.face_normal(hit->prim).dot(dir) > 0) return true;
+  ++cast;
   // Look again just around the front hit, without it, for a coincident back face.
   const double back_off = 4 * RayScene::kEndpointEpsilon * rays.scale() / dir.norm();
   // (Not from behind the start: the point's own face would be met there.)
@@ -33,13 +35,14 @@ bool first_hit_is_back(const Vec3& at, const Vec3& dir, std::uint32_t own, const
 }  // namespace
 
 double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, const RayScene& rays,
-                              std::uint64_t seed) {
+                              std::uint64_t seed, std::uint64_t* rays_cast) {
   const Vec3 u = e.normal.unitOrthogonal();
   const Vec3 v = e.normal.cross(u);
   const std::uint64_t key = child_id(e.id, 0x0BE7u) ^ seed;
   constexpr int kSide = 4;  // kOpenPoints = kSide^2 strata over the element
   static_assert(kSide * kSide == kOpenPoints);
   int open = 0;
+  std::uint64_t cast = 0;
   for (int p = 0; p < kOpenPoints; ++p) {
     const auto i = static_cast<std::uint64_t>(p * (3 + 2 * kOpenRays));
     const double u1 = (p % kSide + hashed_uniform(key, i)) / kSide;
@@ -49,14 +52,13 @@ double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, cons
     for (int k = 0; k < kOpenRays; ++k) {
       const auto j = i + 3 + static_cast<std::uint64_t>(2 * k);
       // Directions stratified in azimuth, cosine-distributed in elevation.
-      const double r1 = hashed_uniform(key, j);
-      const double phi = 2 * std::numbers::pi * (k + hashed_uniform(key, j + 1)) / kOpenRays;
-      const double r = std::sqrt(r1);
-      const Vec3 dir = r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(1 - r1) * e.normal;
-      if (first_hit_is_back(at, dir, e.face, hierarchy, rays)) ++back;
+      const Vec3 dir = cosine_direction(e.normal, u, v, hashed_uniform(key, j),
+                                        (k + hashed_uniform(key, j + 1)) / kOpenRays);
+      if (first_hit_is_back(at, dir, e.face, hierarchy, rays, cast)) ++back;
     }
     if (2 * back <= kOpenRays) ++open;
   }
+  if (rays_cast) *rays_cast += cast;
   return static_cast<double>(open) / kOpenPoints;
 }
 
@@ -74,8 +76,7 @@ OpenStats update_open_fractions(const std::vector<Element*>& elements,
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     Element& e = *elements[static_cast<std::size_t>(i)];
     if (e.is_cluster() || !e.child_span().empty() || e.open >= 0) continue;
-    e.open = static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed));
-    cast += static_cast<std::uint64_t>(kOpenPoints * kOpenRays);
+    e.open = static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed, &cast));
   }
   // Children after parents in `elements`: walk backwards.
   for (std::ptrdiff_t i = n; i-- > 0;) {

@@ -54,8 +54,10 @@ OpenStats update_open_fractions(const std::vector<Element*>& elements,
                                     const Hierarchy& hierarchy, const RayScene& rays,
                                     std::uint64_t seed, int threads, bool possible);
 
-/// The estimate for one surface element, in [0, 1] (for tests).
+/// The estimate for one surface element, in [0, 1]; adds the rays it cast to
+/// `rays_cast` when given (kOpenPoints x kOpenRays, and one more for every front hit,
+/// which is checked for a coincident back face).
 double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, const RayScene& rays,
-                              std::uint64_t seed);
+                              std::uint64_t seed, std::uint64_t* rays_cast = nullptr);
 
 }  // namespace hrad

@@ -120,25 +120,25 @@ void pull_one(Element& e) {
       for (const Element& k : kids) {
         if (k.is_cluster()) {
           for (std::size_t j = 0; j < 6; ++j) cl.leaving_next[j] += k.light->leaving_next[j];
-          continue;
-        }
-        const double w = k.area * open_weight(k);
-        for (int a = 0; a < 3; ++a) {
-          cl.leaving_next[static_cast<std::size_t>(2 * a)] += w * std::max(0.0, k.normal[a]) * k.next;
-          cl.leaving_next[static_cast<std::size_t>(2 * a + 1)] += w * std::max(0.0, -k.normal[a]) * k.next;
+        } else {
+          add_by_axis(cl.leaving_next, k.normal, Rgb(k.area * open_weight(k) * k.next));
         }
       }
     }
-    Rgb sum = Rgb::Zero(), plain = Rgb::Zero();
+    Rgb sum = Rgb::Zero();
     double open_area = 0;
     for (const Element& k : kids) {
       const double w = k.area * open_weight(k);
       sum += w * k.next;
       open_area += w;
-      plain += k.area * k.next;
     }
-    // Wholly closed in: the plain mean (nobody sees it either way).
-    e.next = open_area > 0 ? Rgb(sum / open_area) : e.area > 0 ? Rgb(plain / e.area) : Rgb::Zero();
+    if (open_area > 0) {
+      e.next = sum / open_area;
+    } else {  // wholly closed in: the plain mean (nobody sees it either way)
+      sum = Rgb::Zero();
+      for (const Element& k : kids) sum += k.area * k.next;
+      e.next = e.area > 0 ? Rgb(sum / e.area) : Rgb::Zero();
+    }
   }
 }
 
@@ -151,15 +151,12 @@ void gather_one(Element& e, bool cosine, const Value& value, bool open_area = tr
     // source would get along the axes. The mean cosine is over the members' open area
     // (or their whole area, without open_area), so the members' open parts receive in
     // total what the link delivers to the cluster.
-    const ClusterLight& cl = *e.light;
     std::array<Rgb, 6>& dir = e.light->arriving;
     dir.fill(Rgb::Zero());
     for (const Link& l : e.links) {
       const Vec3 d = (l.source->center - e.center).normalized();
-      double projected = 0;
-      for (int a = 0; a < 3; ++a)
-        projected += std::abs(d[a]) * (open_area ? cl.open_area[static_cast<std::size_t>(2 * a + (d[a] < 0))]
-                                                 : static_cast<double>(e.dir_area[static_cast<std::size_t>(2 * a + (d[a] < 0))]));
+      const double projected =
+          open_area ? e.light->projected_open_area(d) : e.projected_area(d);
       if (!(projected > 0)) continue;
       const Rgb facing = value(l) * (e.area / projected);
       for (int a = 0; a < 3; ++a)
@@ -238,25 +235,18 @@ void prepare_clusters(const std::vector<Element*>& elements) {
     for (const Element& k : e.child_span()) {
       if (k.is_cluster()) {
         for (std::size_t j = 0; j < 6; ++j) oa[j] += k.light->open_area[j];
-        continue;
-      }
-      const double w = k.area * open_weight(k);
-      for (int a = 0; a < 3; ++a) {
-        oa[static_cast<std::size_t>(2 * a)] += w * std::max(0.0, k.normal[a]);
-        oa[static_cast<std::size_t>(2 * a + 1)] += w * std::max(0.0, -k.normal[a]);
+      } else {
+        add_by_axis(oa, k.normal, k.area * open_weight(k));
       }
     }
   }
 }
 
 // The radiosity a link's source shows its receiver `r`: a surface's B, a cluster's
-// along the direction from it to r (ClusterLight).
+// along the direction from it to r (ClusterLight; the direction need not be unit).
 Rgb source_radiosity(const Link& l, const Element& r) {
   const Element& s = *l.source;
-  if (!s.light) return s.B;
-  const Vec3 d = r.center - s.center;
-  const double n = d.norm();
-  return n > 0 ? s.light->radiosity_towards(d / n, s.B) : s.B;
+  return s.light ? s.light->radiosity_towards(r.center - s.center, s.B) : s.B;
 }
 
 // One sweep; the clusters' ClusterLight must be allocated.

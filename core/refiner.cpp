@@ -128,8 +128,10 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   bool accept = false;
   bool split_r = false;
   bool straddle = false;  // F is zero but the pair straddles: split it (below)
+  const bool can_r = splittable(r), can_s = splittable(s);
+  // Split the receiver when it can be split and is the larger of two that can.
+  const auto split_receiver = [&] { return can_r && (!can_s || refine_receiver(r, s)); };
   if (must_refine) {
-    const bool can_r = splittable(r), can_s = splittable(s);
     if (pc == PairClass::ReceiverInside) {
       split_r = false;  // s contains r: open s
       accept = !can_s;
@@ -137,7 +139,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
       split_r = true;
       accept = !can_r;
     } else {
-      split_r = can_r && (!can_s || refine_receiver(r, s));
+      split_r = split_receiver();
       accept = !can_r && !can_s;
     }
     if (accept && (pc == PairClass::ReceiverInside || pc == PairClass::SourceInside)) {
@@ -161,14 +163,13 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
         // direction) does not mean that no light passes: such a pair is split while
         // it can be, and only then dropped. (Dropping it at once lost 0.3-1 % of the
         // hemisphere of the leaves in scenes with objects in contact.)
-        const bool can_r = splittable(r), can_s = splittable(s);
         if (!can_r && !can_s) {
           ++w.c.culled;
           w.c.rays_skipped += static_cast<std::uint64_t>(k);
           return;
         }
         straddle = true;
-        split_r = can_r && (!can_s || refine_receiver(r, s));
+        split_r = split_receiver();
       } else {
         est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped);
       }
@@ -177,11 +178,10 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
       if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
       const Verdict v = oracle_.judge(est, OracleThresholds{limits_.eps_power});
       error = v.error;
-      const bool can_r = splittable(r), can_s = splittable(s);
       if (v.decision == Decision::Accept || (!can_r && !can_s)) {
         accept = true;
       } else {
-        split_r = can_r && (!can_s || refine_receiver(r, s));
+        split_r = split_receiver();
       }
     }
   }

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
 namespace hrad {
@@ -37,9 +36,8 @@ double estimate_escape(const Element& e, const Hierarchy& h, const RayScene& ray
     const Vec3 s = h.sample_point(e, hashed_uniform(key, i), hashed_uniform(key, i + 1),
                                   hashed_uniform(key, i + 2));
     const Vec3 p = e.center + 0.99 * (s - e.center) + lift * e.normal;
-    const double r1 = hashed_uniform(key, i + 3), r2 = hashed_uniform(key, i + 4);
-    const double r = std::sqrt(r1), phi = 2 * std::numbers::pi * r2;
-    const Vec3 dir = r * std::cos(phi) * u + r * std::sin(phi) * v + std::sqrt(1 - r1) * e.normal;
+    const Vec3 dir =
+        cosine_direction(e.normal, u, v, hashed_uniform(key, i + 3), hashed_uniform(key, i + 4));
     // The ray leaves e's own polygon, which it cannot hit again (a grazing ray could
     // be reported hitting it in single precision).
     if (!rays.intersect(p, dir, std::numeric_limits<double>::infinity(), e.face)) ++escaped;
@@ -58,11 +56,13 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
   // scratch here (propagation overwrites it).
   const auto unit = [](const Link& l) -> Rgb { return Rgb::Constant(l.transport()); };
   // First per unit of area, as the links give it, then per unit of open area, as the
-  // propagation gathers (core/open_fraction.h).
+  // propagation gathers (core/open_fraction.h); the same when nothing is closed in.
+  const bool closed_in = std::any_of(elements.begin(), elements.end(),
+                                     [](const Element* e) { return e->open >= 0 && e->open < 1; });
   gather_and_push(elements, receiver, threads, unit, false);
   std::vector<double> plain(elements.size());
   for (std::size_t i = 0; i < elements.size(); ++i) plain[i] = elements[i]->next[0];
-  gather_and_push(elements, receiver, threads, unit, true);
+  if (closed_in) gather_and_push(elements, receiver, threads, unit, true);
   std::vector<Element*> leaves;
   double area = 0;
   st.min = std::numeric_limits<double>::infinity();
