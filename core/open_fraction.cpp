@@ -62,61 +62,13 @@ double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, cons
   return static_cast<double>(open) / kOpenPoints;
 }
 
-namespace {
-
-bool overlap(const Aabb& a, const Aabb& b, double tol) {
-  return (a.lo.array() <= b.hi.array() + tol).all() && (b.lo.array() <= a.hi.array() + tol).all();
-}
-
-}  // namespace
-
-ContactMap::ContactMap(const Hierarchy& hierarchy)
-    : touching_(hierarchy.scene().faces.size()),
-      tol_(2 * RayScene::kEndpointEpsilon * hierarchy.scene().bounds().diagonal()) {
-  // The input polygons: the surface children of the clusters.
-  std::vector<const Element*> polygons;
-  std::vector<const Element*> stack{&hierarchy.root()};
-  while (!stack.empty()) {
-    const Element* c = stack.back();
-    stack.pop_back();
-    for (const Element& k : c->child_span()) (k.is_cluster() ? stack : polygons).push_back(&k);
-  }
-  for (const Element* f : polygons) {
-    auto& list = touching_[f->face];
-    stack.assign(1, &hierarchy.root());
-    while (!stack.empty()) {
-      const Element* c = stack.back();
-      stack.pop_back();
-      if (!overlap(c->box, f->box, tol_)) continue;
-      if (c->is_cluster()) {
-        for (const Element& k : c->child_span()) stack.push_back(&k);
-        continue;
-      }
-      if (c == f) continue;
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (const Vec3& v : c->corners()) {
-        const double d = f->normal.dot(v - f->center);
-        lo = std::min(lo, d);
-        hi = std::max(hi, d);
-      }
-      if (lo <= tol_ && hi >= -tol_) list.push_back(c);  // touches or crosses f's plane
-    }
-  }
-}
-
-bool ContactMap::may_be_closed_in(const Element& e) const {
-  for (const Element* g : touching_[e.face])
-    if (overlap(g->box, e.box, tol_)) return true;
-  return false;
-}
-
 OpenStats update_open_fractions(const std::vector<Element*>& elements,
                                 const Hierarchy& hierarchy, const RayScene& rays,
-                                std::uint64_t seed, int threads, const ContactMap* contacts) {
+                                std::uint64_t seed, int threads, bool possible) {
   OpenStats st;
   std::uint64_t cast = 0;
   const auto n = static_cast<std::ptrdiff_t>(elements.size());
-  if (!contacts) {
+  if (!possible) {
     for (Element* e : elements) e->open = 1;
     return st;
   }
@@ -124,9 +76,7 @@ OpenStats update_open_fractions(const std::vector<Element*>& elements,
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     Element& e = *elements[static_cast<std::size_t>(i)];
     if (e.is_cluster() || !e.child_span().empty() || e.open >= 0) continue;
-    e.open = contacts->may_be_closed_in(e)
-                 ? static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed, &cast))
-                 : 1.0f;
+    e.open = static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed, &cast));
   }
   // Children after parents in `elements`: walk backwards.
   for (std::ptrdiff_t i = n; i-- > 0;) {

@@ -41,38 +41,18 @@ class RayScene;
 inline constexpr int kOpenPoints = 16;
 inline constexpr int kOpenRays = 3;
 
-/// Where contacts can be. A point of a face is closed in only by a solid that
-/// touches the face's plane there, so a polygon can only be met at its face by the
-/// polygons that touch or cross its plane within its bounds (to twice the rays'
-/// end-point exclusion, within which a gap is a contact to the rays too). Elements
-/// that none of those come near are open without rays: in builtin:office that is
-/// most of them. (Not found: a face wholly inside a solid whose boundary does not
-/// meet it, a modelling error.) Built once per scene: a walk of the cluster tree per
-/// input polygon.
-class ContactMap {
- public:
-  explicit ContactMap(const Hierarchy& hierarchy);
-  /// False when no polygon that meets e's plane comes near e: e is open.
-  [[nodiscard]] bool may_be_closed_in(const Element& e) const;
-
- private:
-  std::vector<std::vector<const Element*>> touching_;  ///< per input polygon
-  double tol_;
-};
-
 /// Sets `open` for every element in `elements` (parents before children): leaves
-/// whose estimate is missing get one from rays (or w = 1 without rays where
-/// `contacts` says no contact comes near), every other element the area-weighted
-/// mean of its children. Without `contacts` (nothing in the scene can close a point
-/// in: visibility is off for it, see core/effects.h) every element is open (w = 1)
-/// and no ray is cast.
+/// whose estimate is missing get one from rays, every other element the
+/// area-weighted mean of its children. With `possible` false (nothing in the scene
+/// can close a point in: visibility is off for it, see core/effects.h) every element
+/// is open (w = 1) and no ray is cast.
 struct OpenStats {
   std::uint64_t rays_cast = 0;
   double area_fraction = 1;  ///< open share of the leaves' total area
 };
 OpenStats update_open_fractions(const std::vector<Element*>& elements,
-                                const Hierarchy& hierarchy, const RayScene& rays,
-                                std::uint64_t seed, int threads, const ContactMap* contacts);
+                                    const Hierarchy& hierarchy, const RayScene& rays,
+                                    std::uint64_t seed, int threads, bool possible);
 
 /// The estimate for one surface element, in [0, 1]; adds the rays it cast to
 /// `rays_cast` when given (kOpenPoints x kOpenRays, and one more for every front hit,

@@ -24,7 +24,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -69,7 +68,6 @@ struct Solver::Impl {
   RayScene rays;
   Hierarchy hierarchy;
   Transport transport;
-  std::optional<ContactMap> contacts;  ///< built at the first propagation (open fractions)
   std::unique_ptr<IOracle> oracle;
   RowSumMode row_sum_mode;
   ClusterReceiver receiver_mode;
@@ -199,9 +197,8 @@ RunStats Solver::run() {
                                base + 0.8 / o.iterations);
     t0 = Clock::now();
     std::vector<Element*> elements = m.hierarchy.elements();
-    if (m.effects.visibility.on && !m.contacts) m.contacts.emplace(m.hierarchy);
     const OpenStats open = update_open_fractions(elements, m.hierarchy, m.rays, o.seed, o.threads,
-                                                 m.contacts ? &*m.contacts : nullptr);
+                                                 m.effects.visibility.on);
     is.rays_cast += open.rays_cast;
     is.open_rays = open.rays_cast;
     is.open_area_fraction = open.area_fraction;
