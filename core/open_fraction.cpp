@@ -49,7 +49,8 @@ double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, cons
     const double u2 = (p / kSide + hashed_uniform(key, i + 1)) / kSide;
     const Vec3 at = hierarchy.sample_point(e, u1, u2, hashed_uniform(key, i + 2));
     int back = 0;
-    for (int k = 0; k < kOpenRays; ++k) {
+    // Stop once the majority is decided (most points: after two rays).
+    for (int k = 0; k < kOpenRays && 2 * back <= kOpenRays && 2 * (k - back) <= kOpenRays; ++k) {
       const auto j = i + 3 + static_cast<std::uint64_t>(2 * k);
       // Directions stratified in azimuth, cosine-distributed in elevation.
       const Vec3 dir = cosine_direction(e.normal, u, v, hashed_uniform(key, j),
