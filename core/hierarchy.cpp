@@ -167,10 +167,10 @@ void Hierarchy::finish_cluster(Element& c) {
     center += k.area * k.center;
     rho += k.area * k.rho;
     emission += k.area * k.emission;
-    for (std::size_t i = 0; i < 6; ++i) {
-      const double side = i % 2 == 0 ? 1.0 : -1.0;
-      c.dir_area[i] += static_cast<float>(
-          k.is_cluster() ? k.dir_area[i] : k.area * std::max(0.0, side * k.normal[static_cast<int>(i / 2)]));
+    if (k.is_cluster()) {
+      for (std::size_t i = 0; i < 6; ++i) c.dir_area[i] += k.dir_area[i];
+    } else {
+      add_by_axis(c.dir_area, k.normal, static_cast<float>(k.area));
     }
   }
   if (c.area > 0) {

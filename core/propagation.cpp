@@ -98,8 +98,11 @@ void push_one(Element* e, bool cosine) {
   if (e->is_cluster()) {
     for (std::size_t k = 0; k < 6; ++k) e->light->arriving[k] += up[k];
   } else {
+    // The member's share of each axis direction, as add_by_axis splits its area.
+    const double l1 = e->normal.cwiseAbs().sum();
+    if (!(l1 > 0)) return;
     for (int a = 0; a < 3; ++a) {
-      const double na = e->normal[a];
+      const double na = e->normal[a] / l1;
       e->next += std::max(0.0, na) * up[static_cast<std::size_t>(2 * a)] +
                  std::max(0.0, -na) * up[static_cast<std::size_t>(2 * a + 1)];
     }

@@ -31,8 +31,9 @@ struct PropagationResult {
 /// How a cluster receiver hands what it gathers to its members:
 ///  Isotropic  every member gets the cluster's mean irradiance (Sillion 1995);
 ///  Cosine     each link's irradiance is split along +-x, +-y, +-z by its direction
-///             and a member with normal n gets sum_i max(0, +-n_i) of each part: its
-///             own cosine in the directional model (exact for axis-aligned members).
+///             and a member with normal n gets sum_i max(0, +-n_i) / |n|_1 of each
+///             part: its own cosine in the directional model (exact for axis-aligned
+///             members; see add_by_axis in core/element.h).
 ///             The total over the members is the same as with Isotropic.
 enum class ClusterReceiver : std::uint8_t { Isotropic, Cosine };
 ClusterReceiver parse_cluster_receiver(const std::string& name);

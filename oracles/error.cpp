@@ -5,7 +5,8 @@
 // receiver (an estimate of the error of a constant-basis link), and u(V) is 1
 // when the visibility estimate is partial (0 < V < 1: a shadow boundary crosses
 // the link) and 0 when the pair is fully visible or fully hidden. Clusters carry
-// no spread estimate; for them the whole F counts as uncertain.
+// no spread estimate; for them the whole F counts as uncertain, weighted as in `bf`
+// when they are occluded (oracles/oracle.h).
 #include "core/element.h"
 #include "oracles/oracle.h"
 
@@ -19,7 +20,8 @@ class ErrorOracle final : public IOracle {
     const bool cluster = l.receiver->is_cluster() || l.source->is_cluster();
     const double uncertainty =
         cluster ? l.form_factor : l.form_factor_spread + (partial ? l.form_factor : 0.0);
-    const double err = reflected_power_scale(*l.receiver, *l.source) * uncertainty;
+    const double err =
+        reflected_power_scale(*l.receiver, *l.source) * uncertainty * occlusion_weight(l);
     return {err < t.eps_power ? Decision::Accept : Decision::Refine, err};
   }
   bool needs_spread() const override { return true; }

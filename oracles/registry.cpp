@@ -35,8 +35,5 @@ std::unique_ptr<IOracle> make_oracle(const std::string& name) {
   return it->second();
 }
 
-double reflected_power_scale(const Element& r, const Element& s) {
-  return (r.rho * s.B).maxCoeff() * r.area;
-}
 
 }  // namespace hrad
