@@ -52,6 +52,9 @@ struct Element {
   /// NUMA node (logical) of the arena memory holding this element, as the arena
   /// counts it (core/node_arena.h); set at allocation. Uses what was padding.
   std::uint16_t home_node = 0;
+  /// Surface children of surface elements: the share of the parent's irradiance this
+  /// element receives, relative to the parent's mean (core/push_weights.h); 1 elsewhere.
+  float push_weight = 1;
   double area = 0;              ///< surface area (clusters: total of member polygons)
   Vec3 corner[4];               ///< surfaces with nverts <= 4
   const Vec3* ngon = nullptr;   ///< surfaces with nverts > 4 (top-level polygon only)

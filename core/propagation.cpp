@@ -92,7 +92,11 @@ double open_gain(const Element& e) {
 }
 
 void push_one(Element* e, bool cosine) {
-  e->next = e->gathered + (e->parent ? e->parent->next : Rgb::Zero());
+  // What the parent gathered itself is shared out by the push weights; what it
+  // inherited passes on as it came (core/push_weights.h).
+  const Element* p = e->parent;
+  e->next = p ? Rgb(e->gathered + p->next + (static_cast<double>(e->push_weight) - 1) * p->gathered)
+              : e->gathered;
   if (!cosine || !e->parent || !e->parent->is_cluster()) return;
   const std::array<Rgb, 6>& up = e->parent->light->arriving;
   if (e->is_cluster()) {

@@ -13,6 +13,7 @@
 #include "core/refiner.h"
 #include "core/row_sums.h"
 #include "core/trace.h"
+#include "core/push_weights.h"
 #include "core/transport.h"
 #include "core/open_fraction.h"
 #include "oracles/oracle.h"
@@ -199,6 +200,7 @@ RunStats Solver::run() {
     std::vector<Element*> elements = m.hierarchy.elements();
     const OpenStats open = update_open_fractions(elements, m.hierarchy, m.rays, o.seed, o.threads,
                                                  m.effects.visibility.on);
+    update_push_weights(elements, m.transport, o.threads);
     is.rays_cast += open.rays_cast;
     is.open_rays = open.rays_cast;
     is.open_area_fraction = open.area_fraction;

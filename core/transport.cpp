@@ -141,6 +141,17 @@ double Transport::form_factor(const Element& r, const Element& s) const {
   return std::clamp(cluster_ff(r, s, budget), 0.0, 1.0);
 }
 
+double Transport::form_factor_from_point(const Vec3& p, const Vec3& n, const Element& s) const {
+  if (!s.is_cluster()) return point_to_polygon_ff(p, n, s.corners());
+  const Vec3 d = s.center - p;
+  const double dist2 = d.squaredNorm();
+  if (!(dist2 > 0)) return 0;
+  const Vec3 dir = d / std::sqrt(dist2);
+  const double proj_s =
+      model_ == ClusterModel::Isotropic ? 0.25 * s.area : s.projected_area(-dir);
+  return std::max(0.0, n.dot(dir)) * proj_s / (std::numbers::pi * dist2);
+}
+
 double Transport::form_factor_spread(const Element& r, const Element& s) const {
   if (r.is_cluster() || s.is_cluster()) return 0;
   // Points slightly inside the corners (the corners themselves may touch s).

@@ -58,6 +58,9 @@ class Transport {
   [[nodiscard]] PairClass classify(const Element& r, const Element& s) const;
   /// Unoccluded F_rs in [0,1], receiver-area normalised.
   [[nodiscard]] double form_factor(const Element& r, const Element& s) const;
+  /// Form factor from the point p (unit normal n) to s: exact for a surface s, the
+  /// cluster model's point form for a cluster (core/push_weights.h).
+  [[nodiscard]] double form_factor_from_point(const Vec3& p, const Vec3& n, const Element& s) const;
   /// Spread of the point-to-source form factor over the receiver's corners and
   /// centre (surface pairs; 0 for clusters).
   [[nodiscard]] double form_factor_spread(const Element& r, const Element& s) const;

@@ -88,19 +88,25 @@ TEST(SolverFurnace, RawTransportConservesEnergyOnAverage) {
 }
 
 // At default settings (no row-sum rescale) the furnace of builtin:furnace at rho 0.9,
-// a closed room with a cube and an octahedron floating in it: the mean leaf row sum
-// is 1 to 1e-3 (measured 0.9995) and the area-weighted mean radiosity within 5 % of
-// E / (1 - rho) = 10 (measured +4.3 %; +4.2 % at path-traced probes). The mean row
-// sum is right; what is left is its spread over the leaves (0.85-1.44), which
-// 1 / (1 - rho S) turns into a surplus at rho 0.9 (issue 13's target is 1 %).
+// a closed room with a cube and an octahedron floating in it, and the same room
+// empty: the mean leaf row sum is 1 to 1e-3 and the area-weighted mean radiosity is
+// within 2 % of E / (1 - rho) = 10. Before push weights (core/push_weights.h) the
+// leaves' row sums spread over 0.83-1.44 (a corner leaf inherited its ancestors'
+// mean form factor to the nearby walls), which 1 / (1 - rho S) turned into a surplus
+// of 4.3 % (room with objects) and 4.7 % (empty room).
 TEST(SolverFurnace, DefaultSettingsConserveEnergy) {
-  const Scene scene = make_builtin("builtin:furnace?rho=0.9");
-  Solver s(scene, SolverOptions{});
-  const RunStats st = s.run();
-  EXPECT_NEAR(st.iterations.back().row_sum_mean, 1.0, 1e-3);
-  const auto leaves = s.leaves();
-  expect_finite_nonnegative(leaves);
-  EXPECT_NEAR(area_mean(leaves), 10.0, 0.05 * 10.0);
+  for (const char* spec : {"builtin:furnace?rho=0.9", "builtin:furnace?rho=0.9&objects=0"}) {
+    const Scene scene = make_builtin(spec);
+    Solver s(scene, SolverOptions{});
+    const RunStats st = s.run();
+    EXPECT_NEAR(st.iterations.back().row_sum_mean, 1.0, 1e-3) << spec;
+    const auto leaves = s.leaves();
+    expect_finite_nonnegative(leaves);
+    EXPECT_NEAR(area_mean(leaves), 10.0, 0.02 * 10.0) << spec;
+    std::printf("%s: area-mean radiosity %.4f (exact 10), row sums %.3f-%.3f\n", spec,
+                area_mean(leaves), st.iterations.back().row_sum_min,
+                st.iterations.back().row_sum_max);
+  }
 }
 
 // The cluttered furnace (builtin:furnace?objects=2: 22 boxes and plates floating,
@@ -108,10 +114,11 @@ TEST(SolverFurnace, DefaultSettingsConserveEnergy) {
 // Every open point has irradiance E / (1 - rho) = 2 (rho 0.5) or 10 (rho 0.9).
 // Probes on open faces (room walls away from the boxes, tops and sides of floating
 // and standing boxes, both faces of a floating plate, the cube in the gap): their mean
-// within 3 % (measured -1.9 % at rho 0.5, -2.2 % at rho 0.9), each within 6 % / 12 %
-// (the worst is the cube in the gap at rho 0.9: -10 %). Before faces in contact were
-// kept out of the energy books and straddling pairs refined, random probes were
-// 2.7 % and 13.6 % low on average. Issue 13's target, 1 %, is not met yet.
+// within 2 % (measured -0.5 % at rho 0.5, -0.9 % at rho 0.9), each within 5 % / 10 %
+// (the worst: -3.6 % and -7.7 %). Before faces in contact were kept out of the energy
+// books and straddling pairs refined, random probes were 2.7 % and 13.6 % low on
+// average; before push weights and occluded cluster links weighed, these probes' mean
+// was -1.9 % and -2.2 % and the worst -10 %. Issue 13's target, 1 % each, is not met.
 TEST(SolverFurnace, ClutteredFurnaceAtDefaults) {
   const std::vector<Probe> probes = {
       {{0.2, 0.8, 1e-4}, {0, 0, 1}},    {{0.5, 0.5, 1 - 1e-4}, {0, 0, -1}},  // z walls
@@ -132,13 +139,15 @@ TEST(SolverFurnace, ClutteredFurnaceAtDefaults) {
     s.run();
     const double exact = 1 / (1 - rho);
     const std::vector<Rgb> e = s.probe_irradiance(probes);
-    double mean = 0;
+    double mean = 0, worst = 0;
     for (std::size_t i = 0; i < e.size(); ++i) {
-      EXPECT_NEAR(e[i][0], exact, (rho < 0.7 ? 0.06 : 0.12) * exact) << "probe " << i << " rho " << rho;
+      EXPECT_NEAR(e[i][0], exact, (rho < 0.7 ? 0.05 : 0.10) * exact) << "probe " << i << " rho " << rho;
       mean += e[i][0] / static_cast<double>(e.size());
+      if (std::abs(e[i][0] / exact - 1) > std::abs(worst)) worst = e[i][0] / exact - 1;
     }
-    EXPECT_NEAR(mean, exact, 0.03 * exact) << "rho " << rho;
-    std::printf("cluttered furnace rho %.1f: mean probe irradiance %.4f (exact %.4f)\n", rho, mean, exact);
+    EXPECT_NEAR(mean, exact, 0.02 * exact) << "rho " << rho;
+    std::printf("cluttered furnace rho %.1f: mean probe irradiance %.4f (exact %.4f), worst %+.2f %%\n",
+                rho, mean, exact, 100 * worst);
   }
 }
 

@@ -1,0 +1,107 @@
+// Push weights (core/push_weights.h): how an element's irradiance is shared among its
+// children. Checked on the empty furnace room (six walls, each one input polygon).
+#include "core/builtin_scenes.h"
+#include "core/hierarchy.h"
+#include "core/lock_pool.h"
+#include "core/push_weights.h"
+#include "core/ray_scene.h"
+#include "core/transport.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <vector>
+
+namespace hrad {
+namespace {
+
+struct Room {
+  Scene scene = make_builtin("builtin:furnace?objects=0");
+  Hierarchy h{scene, 1};
+  RayScene rays = RayScene::from_scene(scene);
+  Transport transport{h, rays, 4, 1};
+  LockPool locks{2, 1};
+
+  std::vector<Element*> walls() {
+    std::vector<Element*> w;
+    for (Element* e : h.elements())
+      if (!e->is_cluster() && e->depth == 0) w.push_back(e);
+    return w;
+  }
+  // Links at `p` from each of `sources`, with F from the transport and V = 1; every
+  // source shows radiosity 1.
+  void link(Element& p, const std::vector<Element*>& sources) {
+    std::vector<Link> links;
+    for (Element* s : sources) {
+      s->B = Rgb::Ones();
+      links.push_back(Link{s, static_cast<float>(transport.form_factor(p, *s)), 1.0f});
+    }
+    h.store_links(p, links, 0);
+  }
+};
+
+double area_weighted_sum(std::span<const Element> kids) {
+  double s = 0;
+  for (const Element& c : kids) s += c.area * static_cast<double>(c.push_weight);
+  return s;
+}
+
+// A floor element linked to all five other walls of the closed room: every point of it
+// sees the whole hemisphere, so every child gets the same share (weight 1, to the
+// accuracy of one point form factor per child), and the weights conserve energy.
+TEST(PushWeights, ClosedRoomSharesEvenly) {
+  Room room;
+  std::vector<Element*> w = room.walls();
+  ASSERT_EQ(w.size(), 6u);
+  Element& floor = *w[0];
+  std::vector<Element*> others(w.begin() + 1, w.end());
+  room.link(floor, others);
+  const auto kids = room.h.subdivide(floor, 0, room.locks);
+  ASSERT_EQ(kids.size(), 4u);
+  update_push_weights(room.h.elements(), room.transport, 1);
+  EXPECT_NEAR(area_weighted_sum(kids), floor.area, 1e-6 * floor.area);
+  for (const Element& c : kids) EXPECT_NEAR(c.push_weight, 1.0, 0.02);
+}
+
+// Linked to one adjacent wall only, the children along the shared edge see much more
+// of it than the far ones: their weights are above 1, the others' below, and the
+// area-weighted mean is 1.
+TEST(PushWeights, AdjacentWallFavoursTheNearChildren) {
+  Room room;
+  std::vector<Element*> w = room.walls();
+  Element& floor = *w[0];
+  // A wall that shares an edge with the floor (any of the four perpendicular ones).
+  Element* side = nullptr;
+  for (Element* e : w)
+    if (e != &floor && std::abs(e->normal.dot(floor.normal)) < 0.5) side = e;
+  ASSERT_NE(side, nullptr);
+  room.link(floor, {side});
+  const auto kids = room.h.subdivide(floor, 0, room.locks);
+  update_push_weights(room.h.elements(), room.transport, 1);
+  EXPECT_NEAR(area_weighted_sum(kids), floor.area, 1e-6 * floor.area);
+  // With one link, each child's weight is its centre's form factor to the wall over
+  // the area-weighted mean of those: 1.47 along the edge, 0.53 away from it.
+  double lo = 1e9, hi = 0, mean_f = 0;
+  for (const Element& c : kids)
+    mean_f += c.area * room.transport.form_factor_from_point(c.center, c.normal, *side) / floor.area;
+  for (const Element& c : kids) {
+    const double f = room.transport.form_factor_from_point(c.center, c.normal, *side);
+    EXPECT_NEAR(c.push_weight, f / mean_f, 1e-5);
+    lo = std::min(lo, static_cast<double>(c.push_weight));
+    hi = std::max(hi, static_cast<double>(c.push_weight));
+  }
+  EXPECT_GT(hi, 1.4);
+  EXPECT_LT(lo, 0.6);
+  // Children of an element without links, and of clusters, get 1.
+  const auto grandkids = room.h.subdivide(kids[0], 0, room.locks);
+  update_push_weights(room.h.elements(), room.transport, 1);
+  for (const Element& g : grandkids) EXPECT_EQ(g.push_weight, 1.0f);
+  for (Element* e : room.h.elements())
+    if (e->is_cluster())
+      for (const Element& c : e->child_span()) EXPECT_EQ(c.push_weight, 1.0f);
+}
+
+}  // namespace
+}  // namespace hrad
