@@ -61,8 +61,8 @@ struct Element {
   Vec3 normal = Vec3::Zero();   ///< surfaces: unit normal; clusters: zero
   Vec3 center = Vec3::Zero();   ///< surfaces: centroid; clusters: area-weighted centroid
   Aabb box;                     ///< bounds (surfaces too)
-  /// Clusters: member areas split by axis direction +x,-x,+y,-y,+z,-z (add_by_axis); the
-  /// directional cluster model's projected area is sum_i |d_i| dir_area[axis i, sign].
+  /// Clusters: member areas split by axis direction +x,-x,+y,-y,+z,-z (add_by_axis);
+  /// the directional cluster model's projected area is sum_i |d_i| dir_area[axis i, sign].
   std::array<float, 6> dir_area{};
   Rgb rho = Rgb::Zero();        ///< reflectance (clusters: area-weighted average)
   Rgb emission = Rgb::Zero();   ///< exitance E (clusters: area-weighted average)
@@ -104,9 +104,10 @@ struct ClusterLight {
   std::array<Rgb, 6> arriving{};
   /// Radiosity leaving towards each direction: sum over the member polygons of open
   /// area x B split by axis direction (add_by_axis), and the same sum without B. A
-  /// link from the cluster carries, along its direction d, sum_i |d_i| leaving / sum_i |d_i| open_area: the
-  /// radiosity of the members that face d, not the mean of all of them (a desk shows
-  /// the ceiling its lit top, not the mean of its top and its dark underside).
+  /// link from the cluster carries, along its direction d, sum_i |d_i| leaving /
+  /// sum_i |d_i| open_area: the radiosity of the members that face d, not the mean of
+  /// all of them (a desk shows the ceiling its lit top, not the mean of its top and
+  /// its dark underside).
   std::array<Rgb, 6> leaving{};
   std::array<Rgb, 6> leaving_next{};
   std::array<double, 6> open_area{};

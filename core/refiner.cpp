@@ -303,11 +303,15 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     bool idle = true;  // not yet counted in `busy`
     int idle_round = 0;
     std::int64_t owed = 0;  // retired tasks not yet taken off `pending` (<= 0)
+    std::size_t ready = 0;  // tasks already in `block` (taken with the last submit)
+    // While chunks are left to load, a refiner with nothing of its own loads one
+    // rather than take what another has just loaded.
+    const auto loading = [&] { return load_cursor.v.load(std::memory_order_relaxed) < all.size(); };
     for (;;) {
-      // While chunks are left to load, a refiner with nothing of its own loads one
-      // rather than take what another has just loaded.
-      const bool loading = load_cursor.v.load(std::memory_order_relaxed) < all.size();
-      const std::size_t n = loading ? scheduler.take_own(w.id, block) : scheduler.take(w.id, block);
+      const std::size_t n = ready > 0   ? ready
+                            : loading() ? scheduler.take_own(w.id, block)
+                                        : scheduler.take(w.id, block);
+      ready = 0;
       if (n == 0) {
         if (load_more(w)) continue;
         if (owed != 0) {  // before going idle, publish what this refiner retired
@@ -375,8 +379,10 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
         last = pending.v.fetch_add(delta, std::memory_order_acq_rel) + delta == 0;
       }
       if (!out.empty()) {
+        // One visit to the pool between two blocks: the children go in, the next
+        // block comes out (IScheduler::submit_and_take).
         ++w.c.submits;
-        scheduler.submit(w.id, out);
+        ready = scheduler.submit_and_take(w.id, out, block, loading());
         out.clear();
       }
       w.c.busy_s += seconds_since(t0);

@@ -32,6 +32,12 @@
 //
 // Lock waits are timed only when the lock is contended (try_lock first), as in
 // CentralPool.
+//
+// submit_and_take() does a refiner's submit and its next take under one acquisition:
+// the driver calls it between two blocks, so a block costs one visit to the pool
+// instead of two. The lock's line moves between the cores at most once per block: on
+// builtin:lab at 2 threads, block 10, the two visits made CPU per task 11 % higher than
+// at 1 thread (1 % at block 100, with ten times fewer visits).
 #include "core/timed_lock.h"
 #include "schedulers/chunk_stack.h"
 #include "schedulers/pool_order.h"
@@ -65,12 +71,23 @@ class BlockedScheduler final : public IScheduler {
 
   void submit(int worker, std::span<const Task> tasks) override {
     if (tasks.empty()) return;
-    std::vector<Task>& spare = thread_spare();
-    spare.assign(tasks.begin(), tasks.end());  // the copy, outside the lock
-    order_batch(spare, order_);
+    std::vector<Task>& spare = prepare(tasks);
     std::unique_lock lock = acquire();
-    stacks_[slot(worker)].push(spare);  // O(1): moves the buffer in, a recycled one out
-    ++counters_.submits;
+    push_locked(worker, spare);
+  }
+
+  std::size_t submit_and_take(int worker, std::span<const Task> tasks, std::span<Task> out,
+                              bool own_only) override {
+    if (tasks.empty()) return own_only ? take_own(worker, out) : take(worker, out);
+    std::vector<Task>& spare = prepare(tasks);
+    std::vector<Task> discard;
+    std::size_t n = 0;
+    {
+      std::unique_lock lock = acquire();
+      push_locked(worker, spare);
+      n = take_locked(worker, out, !own_only, discard);
+    }
+    return n;
   }
 
   [[nodiscard]] SchedulerCounters counters() const override {
@@ -81,21 +98,43 @@ class BlockedScheduler final : public IScheduler {
 
  private:
   std::size_t take_from(int worker, std::span<Task> out, bool may_steal) {
-    const std::size_t want = std::min(out.size(), block_size_);
     std::vector<Task> discard;  // an oversized emptied buffer, freed after unlocking
     std::size_t n = 0;
     {
       std::unique_lock lock = acquire();
-      const std::size_t w = slot(worker);
-      n = stacks_[w].pop(out, want, discard);
-      for (std::size_t k = 1; may_steal && n == 0 && k < stacks_.size(); ++k) {
-        ChunkStack& other = stacks_[(w + k) % stacks_.size()];
-        if (other.empty()) continue;
-        n = other.pop_oldest(out, want, discard);
-        counters_.steals += n;
-      }
-      if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
+      n = take_locked(worker, out, may_steal, discard);
     }
+    return n;
+  }
+
+  // The batch copied into this thread's spare buffer and ordered: outside the lock.
+  std::vector<Task>& prepare(std::span<const Task> tasks) {
+    std::vector<Task>& spare = thread_spare();
+    spare.assign(tasks.begin(), tasks.end());
+    order_batch(spare, order_);
+    return spare;
+  }
+
+  // Under mutex_: O(1), moves the buffer in and a recycled one out.
+  void push_locked(int worker, std::vector<Task>& spare) {
+    stacks_[slot(worker)].push(spare);
+    ++counters_.submits;
+  }
+
+  // Under mutex_: up to block_size tasks from the worker's own stack, else (when
+  // `may_steal`) from the oldest chunk of the next non-empty one.
+  std::size_t take_locked(int worker, std::span<Task> out, bool may_steal,
+                          std::vector<Task>& discard) {
+    const std::size_t want = std::min(out.size(), block_size_);
+    const std::size_t w = slot(worker);
+    std::size_t n = stacks_[w].pop(out, want, discard);
+    for (std::size_t k = 1; may_steal && n == 0 && k < stacks_.size(); ++k) {
+      ChunkStack& other = stacks_[(w + k) % stacks_.size()];
+      if (other.empty()) continue;
+      n = other.pop_oldest(out, want, discard);
+      counters_.steals += n;
+    }
+    if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
     return n;
   }
 

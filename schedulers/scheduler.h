@@ -75,6 +75,14 @@ class IScheduler {
   virtual std::size_t take_own(int worker, std::span<Task> out) { return take(worker, out); }
   /// Adds tasks created by `worker` (or initial tasks, with worker 0).
   virtual void submit(int worker, std::span<const Task> tasks) = 0;
+  /// submit(worker, tasks), then take(worker, out) (take_own when `own_only`): the
+  /// driver's visit to the pool between two blocks. The result is the same as the two
+  /// calls; a scheduler under one lock overrides it to take the lock once (`blocked`).
+  virtual std::size_t submit_and_take(int worker, std::span<const Task> tasks,
+                                      std::span<Task> out, bool own_only) {
+    submit(worker, tasks);
+    return own_only ? take_own(worker, out) : take(worker, out);
+  }
   [[nodiscard]] virtual SchedulerCounters counters() const = 0;
   [[nodiscard]] virtual const char* name() const = 0;
 };

@@ -84,8 +84,10 @@ TEST(PushWeights, AdjacentWallFavoursTheNearChildren) {
   // With one link, each child's weight is its centre's form factor to the wall over
   // the area-weighted mean of those: 1.47 along the edge, 0.53 away from it.
   double lo = 1e9, hi = 0, mean_f = 0;
-  for (const Element& c : kids)
-    mean_f += c.area * room.transport.form_factor_from_point(c.center, c.normal, *side) / floor.area;
+  for (const Element& c : kids) {
+    const double f = room.transport.form_factor_from_point(c.center, c.normal, *side);
+    mean_f += c.area * f / floor.area;
+  }
   for (const Element& c : kids) {
     const double f = room.transport.form_factor_from_point(c.center, c.normal, *side);
     EXPECT_NEAR(c.push_weight, f / mean_f, 1e-5);
