@@ -2,8 +2,8 @@
 // good enough when the power it carries, rho_r * B_s * F_rs * A_r (largest
 // channel, unoccluded F so that shadow boundaries are still refined), is below
 // eps x total emitted power; a link with a cluster end that is partly or wholly
-// occluded counts kOccludedClusterWeight times (oracles/oracle.h). Element size limits (min_area) are applied by the
-// refiner, for every oracle alike.
+// occluded counts kOccludedClusterWeight times (oracles/oracle.h). Element size
+// limits (min_area) are applied by the refiner, for every oracle alike.
 #include "core/element.h"
 #include "oracles/oracle.h"
 
