@@ -411,11 +411,11 @@ namespace hrad {
 namespace {
 
 // builtin:office at default settings against the path-traced reference stored with
-// the accuracy-time figure (docs/figures/accuracy-time/, 18 probes, 1 % standard
-// error each, so about 0.25 % on their mean). Before the oracle weighed occluded
-// cluster links (oracles/oracle.h) the mean signed error here was -13 %; now it is
-// about -2 %. The tolerance, 3.5 %, leaves room for the reference's noise and for
-// small changes elsewhere, and fails on the old bias by a wide margin.
+// the accuracy-time figure (docs/figures/accuracy-time/, 18 probes, 0.5 % relative
+// standard error each). Before the oracle weighed occluded cluster links
+// (oracles/oracle.h) the mean signed error here was -13 %; now it is -1.5 % (median
+// 1.0 %). The tolerance, 3.5 %, leaves room for the reference's noise and for small
+// changes elsewhere, and fails on the old bias by a wide margin.
 TEST(SolverAccuracy, OfficeAtDefaultsIsNotDark) {
   const std::string csv =
       test::read_text(std::string(HRAD_SOURCE_DIR) + "/docs/figures/accuracy-time/reference-builtin_office.csv");
