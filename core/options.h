@@ -17,7 +17,8 @@
 // | pool_order          | string | "submitted"  | central pools sort each batch: submitted, address, subtree |
 // | seed                | uint64 | 1            | mixed into every per-link random number                    |
 // | gather_tolerance    | double | 1e-6         | propagation stops when the estimated remaining change is    |
-// |                     |        |              | below this fraction of the largest radiosity               |
+// |                     |        |              | below this fraction of the largest radiosity (iterations   |
+// |                     |        |              | before the last: max(this, 1e-4), core/solver.cpp)         |
 // | max_gather_sweeps   | int    | 100000       | hard cap on gather + push-pull sweeps per iteration        |
 // | cluster_model       | string | "directional"| cluster projected areas: isotropic (A/4) or directional    |
 // | cluster_receiver    | string | "isotropic"  | how a cluster hands on what it gathers: isotropic, cosine  |

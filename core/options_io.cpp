@@ -41,8 +41,8 @@ const std::vector<Row>& rows() {
        "central pools sort each submitted batch: submitted (no), address, subtree"},
       {"seed", &S::seed, "mixed into every per-link random number"},
       {"gather_tolerance", &S::gather_tolerance,
-       "propagation stops when the estimated remaining change is below this fraction of "
-       "the largest radiosity"},
+       "the last iteration's propagation stops when the estimated remaining change is "
+       "below this fraction of the largest radiosity (earlier iterations at max(this, 1e-4))"},
       {"max_gather_sweeps", &S::max_gather_sweeps,
        "hard cap on gather + push-pull sweeps per iteration"},
       {"cluster_model", &S::cluster_model,

@@ -31,6 +31,15 @@
 namespace hrad {
 
 namespace {
+
+// The propagation of an iteration before the last only gives the next refinement the
+// radiosities its oracle weighs links by, so it stops at this tolerance (or at
+// gather_tolerance when that is looser); the last iteration's converges to
+// gather_tolerance. builtin:office at the defaults: sweeps per iteration 41, 33, 25,
+// 19 -> 21, 13, 2, 24, propagation 1.17 -> 0.74 s, 5 links of 359,002 different, the
+// probe errors the same to 0.01 %.
+constexpr double kIntermediateTolerance = 1e-4;
+
 /// Leaf surface elements (those without children), depth first: the solution's
 /// finest mesh.
 std::vector<const Element*> leaf_surfaces(const Element& root) {
@@ -212,7 +221,9 @@ RunStats Solver::run() {
     is.row_sum_mean = rs.area_mean;
     is.row_sum_corrected = rs.corrected;
     const PropagationResult pr =
-        propagate(elements, o.gather_tolerance, max_sweeps, o.threads, m.receiver_mode, grey);
+        propagate(elements, it < o.iterations ? std::max(o.gather_tolerance, kIntermediateTolerance)
+                                              : o.gather_tolerance,
+                  max_sweeps, o.threads, m.receiver_mode, grey);
     is.propagate_wall_s = seconds_since(t0);
     is.gather_sweeps = pr.sweeps;
     is.max_change = pr.last_change;
