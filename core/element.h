@@ -130,24 +130,30 @@ struct ClusterLight {
   }
 };
 
-/// Adds x to the +-i entries of a per-axis-direction array (+x, -x, +y, -y, +z, -z),
-/// split among the axis directions a unit normal n faces in proportion to |n_i|
-/// (weights |n_i| / (|n_x| + |n_y| + |n_z|), which sum to 1): how the directional
-/// cluster model's sums (Element::dir_area, ClusterLight) are made. An axis-aligned
+/// A unit normal n's shares of the axis directions +x, -x, +y, -y, +z, -z, in
+/// proportion to |n_i| (weights |n_i| / (|n_x| + |n_y| + |n_z|) on the side n faces,
+/// which sum to 1); add_by_axis adds x split by them to a per-axis-direction array.
+/// This is how the directional cluster model's sums (Element::dir_area, ClusterLight)
+/// are made, and how a cosine cluster receiver hands its light on. An axis-aligned
 /// member puts all of x on one entry, and the model is exact for it. A tilted one is
 /// spread so that the model's projected area, averaged over all directions, is A/4 as
 /// it must be; with weights |n_i| it was up to 73 % too large (a member facing
 /// (1,1,1)/sqrt 3 seen along that diagonal), and clusters of tilted polygons (the
 /// cabin's fuselage and seats) carried too much.
+inline std::array<double, 6> axis_shares(const Vec3& n) {
+  std::array<double, 6> w{};
+  const double l1 = std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]);
+  if (!(l1 > 0)) return w;
+  for (int a = 0; a < 3; ++a) {
+    w[static_cast<std::size_t>(2 * a)] = std::max(0.0, n[a] / l1);
+    w[static_cast<std::size_t>(2 * a + 1)] = std::max(0.0, -n[a] / l1);
+  }
+  return w;
+}
 template <class T>
 void add_by_axis(std::array<T, 6>& sums, const Vec3& n, const T& x) {
-  const double l1 = std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]);
-  if (!(l1 > 0)) return;
-  for (int a = 0; a < 3; ++a) {
-    const double w = n[a] / l1;
-    sums[static_cast<std::size_t>(2 * a)] += std::max(0.0, w) * x;
-    sums[static_cast<std::size_t>(2 * a + 1)] += std::max(0.0, -w) * x;
-  }
+  const std::array<double, 6> w = axis_shares(n);
+  for (std::size_t k = 0; k < 6; ++k) sums[k] += w[k] * x;
 }
 
 /// True when a is b or an ancestor of b.

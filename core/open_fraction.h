@@ -37,22 +37,27 @@ namespace hrad {
 class Hierarchy;
 class RayScene;
 
+/// The element's open fraction as a weight: 1 until it is estimated.
+inline double open_weight(const Element& e) {
+  return e.open < 0 ? 1.0 : static_cast<double>(e.open);
+}
+
 /// Points per leaf and rays per point of the estimate.
 inline constexpr int kOpenPoints = 16;
 inline constexpr int kOpenRays = 3;
 
+struct OpenStats {
+  std::uint64_t rays_cast = 0;
+  double area_fraction = 1;  ///< open share of the leaves' total area
+};
 /// Sets `open` for every element in `elements` (parents before children): leaves
 /// whose estimate is missing get one from rays, every other element the
 /// area-weighted mean of its children. With `possible` false (nothing in the scene
 /// can close a point in: visibility is off for it, see core/effects.h) every element
 /// is open (w = 1) and no ray is cast.
-struct OpenStats {
-  std::uint64_t rays_cast = 0;
-  double area_fraction = 1;  ///< open share of the leaves' total area
-};
 OpenStats update_open_fractions(const std::vector<Element*>& elements,
-                                    const Hierarchy& hierarchy, const RayScene& rays,
-                                    std::uint64_t seed, int threads, bool possible);
+                                const Hierarchy& hierarchy, const RayScene& rays,
+                                std::uint64_t seed, int threads, bool possible);
 
 /// The estimate for one surface element, in [0, 1]; adds the rays it cast to
 /// `rays_cast` when given (kOpenPoints x kOpenRays, and one more for every front hit,

@@ -1,5 +1,7 @@
 #include "core/propagation.h"
 
+#include "core/open_fraction.h"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -74,9 +76,6 @@ Partition partition(const std::vector<Element*>& elements, int threads) {
   return p;
 }
 
-// The element's open fraction as a weight (1 until it is estimated).
-double open_weight(const Element& e) { return e.open < 0 ? 1.0 : static_cast<double>(e.open); }
-
 // What an element's own links deliver, per unit of its whole area, becomes per unit
 // of open area: the links' visibility already counted the closed-in part as blocked.
 // A mostly closed-in leaf is divided by at most 1 / kMinOpen, so that the noise of its
@@ -103,13 +102,8 @@ void push_one(Element* e, bool cosine) {
     for (std::size_t k = 0; k < 6; ++k) e->light->arriving[k] += up[k];
   } else {
     // The member's share of each axis direction, as add_by_axis splits its area.
-    const double l1 = e->normal.cwiseAbs().sum();
-    if (!(l1 > 0)) return;
-    for (int a = 0; a < 3; ++a) {
-      const double na = e->normal[a] / l1;
-      e->next += std::max(0.0, na) * up[static_cast<std::size_t>(2 * a)] +
-                 std::max(0.0, -na) * up[static_cast<std::size_t>(2 * a + 1)];
-    }
+    const std::array<double, 6> w = axis_shares(e->normal);
+    for (std::size_t k = 0; k < 6; ++k) e->next += w[k] * up[k];
   }
 }
 

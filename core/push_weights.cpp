@@ -1,5 +1,6 @@
 #include "core/push_weights.h"
 
+#include "core/open_fraction.h"
 #include "core/transport.h"
 
 #include <algorithm>
@@ -7,8 +8,6 @@
 namespace hrad {
 
 namespace {
-
-double open_weight(const Element& e) { return e.open < 0 ? 1.0 : static_cast<double>(e.open); }
 
 // The weights of P's children from P's own links: sum_l F(c, s_l) V_l b_l, with F from
 // c's centre (one evaluation per child and link: the normalisation below takes out

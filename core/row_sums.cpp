@@ -1,6 +1,7 @@
 #include "core/row_sums.h"
 
 #include "core/hierarchy.h"
+#include "core/open_fraction.h"
 #include "core/propagation.h"
 #include "core/ray_scene.h"
 #include "core/transport.h"
@@ -91,7 +92,7 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
       ++st.open_capped;
     }
     // The statistics are over the open area, where the row sum means something.
-    const double open = e->open < 0 ? 1.0 : static_cast<double>(e->open);
+    const double open = open_weight(*e);
     if (open <= 0) continue;
     const double used = static_cast<double>(e->gather_scale) * s;
     st.min = std::min(st.min, used);
