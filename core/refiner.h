@@ -48,7 +48,7 @@ struct RefineCounters {
   std::uint64_t culled = 0;         ///< pairs that cannot exchange light
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;   ///< rays not cast thanks to culling
-  double busy_s = 0;                ///< summed over refiners: wall time refining blocks
+  double busy_s = 0;                ///< summed over refiners: wall time in the refinement loop, less idle and loading
   double idle_s = 0;                ///< summed over refiners: waiting for tasks
   /// Summed over refiners: CPU time of the refiner's thread over the whole stage
   /// (its own clock, core/clock.h), which stops while the thread waits for a core.

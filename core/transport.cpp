@@ -8,6 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
+#include <vector>
+#include <array>
 
 namespace hrad {
 
@@ -134,9 +136,71 @@ double Transport::cluster_ff(const Element& r, const Element& s, int& budget) co
   return f;
 }
 
+namespace {
+
+/// A convex polygon clipped to the front of a plane: at most one vertex more than it
+/// had, held in place for up to kInPlace vertices.
+class FrontPart {
+ public:
+  static constexpr std::size_t kInPlace = 8;
+  /// The part of `poly` where n . (p - p0) > 0 (Sutherland-Hodgman).
+  FrontPart(std::span<const Vec3> poly, const Vec3& n, const Vec3& p0) {
+    if (poly.size() + 1 > kInPlace) heap_.reserve(poly.size() + 1);
+    Vec3 a = poly.back();
+    double da = n.dot(a - p0);
+    for (const Vec3& b : poly) {
+      const double db = n.dot(b - p0);
+      if ((da > 0) != (db > 0)) add(a + (da / (da - db)) * (b - a));
+      if (db > 0) add(b);
+      a = b;
+      da = db;
+    }
+  }
+  [[nodiscard]] std::span<const Vec3> vertices() const {
+    return heap_.empty() ? std::span<const Vec3>(local_.data(), count_)
+                         : std::span<const Vec3>(heap_);
+  }
+
+ private:
+  void add(const Vec3& v) {
+    if (heap_.capacity() > 0) {
+      heap_.push_back(v);
+    } else {
+      local_[count_++] = v;
+    }
+  }
+  std::array<Vec3, kInPlace> local_;
+  std::size_t count_ = 0;
+  std::vector<Vec3> heap_;
+};
+
+}  // namespace
+
+// A receiver that crosses the source's plane receives nothing on the part behind it,
+// and the product rule over its whole area puts its few points without regard to the
+// crossing: the front part can hold none of them, and a pair of elements that cross
+// each other's planes (a chair leg through a floor, tilted panels meeting at an
+// angle) then gets F = 0 although light passes. Such a receiver is integrated over
+// its front part only, with the same rule, and the result scaled by that part's share
+// of the area.
 double Transport::form_factor(const Element& r, const Element& s) const {
-  if (!r.is_cluster() && !s.is_cluster())
-    return polygon_to_polygon_ff(r.corners(), s.corners(), kQuadratureOrder);
+  if (!r.is_cluster() && !s.is_cluster()) {
+    const std::span<const Vec3> rc = r.corners();
+    bool behind = false, front = false;
+    for (const Vec3& v : rc) {
+      const double d = s.normal.dot(v - s.center);
+      behind = behind || d < -plane_tol_;
+      front = front || d > plane_tol_;
+    }
+    if (!(behind && front) || !(r.area > 0))
+      return polygon_to_polygon_ff(rc, s.corners(), kQuadratureOrder);
+    const FrontPart part(rc, s.normal, s.center);
+    const double share = polygon_area(part.vertices()) / r.area;
+    if (!(share > 0)) return 0;
+    return std::clamp(
+        std::min(share, 1.0) * polygon_to_polygon_ff(part.vertices(), s.corners(), kQuadratureOrder),
+        0.0, 1.0);
+  }
   int budget = kClusterOpenBudget;
   return std::clamp(cluster_ff(r, s, budget), 0.0, 1.0);
 }

@@ -150,5 +150,38 @@ TEST(TransportAccuracy, ClusterFormFactorMatchesTheMembers) {
   }
 }
 
+// A receiver crossing the source's plane: the source is the unit square z = 0 facing
+// up; the receiver the wall y = 1.5 facing it (-y), x in [0, 1], z in [-1, 0.2], so
+// only its top sixth is in front of the source. Both of the default product rule's
+// rows of points (z = -0.75 and -0.05) are behind it, where nothing is received, so
+// the rule over the whole wall gives 0. Transport::form_factor integrates over the
+// front part only; the reference is the product rule of order 256 over the whole
+// wall, whose points behind the source correctly add 0.
+TEST(TransportAccuracy, ReceiverCrossingTheSourcePlaneIsIntegratedOverItsFrontPart) {
+  SceneBuilder b("crossing", "test");
+  const auto m = b.add_material(test::material(0.5, 0), {"t", 0});
+  const Poly source{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const Poly wall{{0, 1.5, -1}, {1, 1.5, -1}, {1, 1.5, 0.2}, {0, 1.5, 0.2}};
+  ASSERT_GT(polygon_normal(source).z(), 0);
+  ASSERT_LT(polygon_normal(wall).y(), 0);
+  b.add_polygon(source, m, {"t", 1});
+  b.add_polygon(wall, m, {"t", 2});
+  const Scene scene = b.finish("t");
+  Hierarchy h(scene, 1);
+  const RayScene rays = RayScene::from_scene(scene);
+  const Element* s = surface_of_face(h, 0);
+  const Element* r = surface_of_face(h, 1);
+  ASSERT_NE(r, nullptr);
+  ASSERT_NE(s, nullptr);
+  const Transport t(h, rays, 4, 1);
+  const double exact = polygon_to_polygon_ff(wall, source, 256);
+  ASSERT_EQ(polygon_to_polygon_ff(wall, source, Transport::kQuadratureOrder), 0.0)
+      << "the case no longer shows the whole-element rule's blind spot";
+  const double f = t.form_factor(*r, *s);
+  std::cout << "F(wall -> floor) exact " << exact << ", estimate " << f << "\n";
+  EXPECT_GT(exact, 0.005);
+  EXPECT_NEAR(f, exact, 0.03 * exact);
+}
+
 }  // namespace
 }  // namespace hrad
