@@ -72,6 +72,9 @@ struct Element {
   LinkList links;               ///< links where this element is the receiver (core/link_list.h)
   /// Clusters: the propagation's directional state (below); allocated by it.
   std::unique_ptr<ClusterLight> light;
+  /// The element's position in the list the last propagation was given (its gather
+  /// matrix's row and value slot, core/propagation.cpp); scratch elsewhere.
+  std::uint32_t index = 0;
 
   [[nodiscard]] bool is_cluster() const { return kind == ElementKind::Cluster; }
   [[nodiscard]] std::span<const Vec3> corners() const {

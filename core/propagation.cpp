@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 namespace hrad {
 
@@ -175,14 +177,28 @@ struct alignas(64) SweepChange {
   double change = 0, largest = 0;
 };
 
+// The last step of an element's sweep, once its `next` is final: B <- next (and the
+// cluster's directional sums), with the change recorded.
+void finish_one(Element& e, SweepChange& c) {
+  c.change = std::max(c.change, (e.next - e.B).abs().maxCoeff());
+  c.largest = std::max(c.largest, e.next.abs().maxCoeff());
+  e.B = e.next;
+  if (e.light) {
+    e.light->leaving = e.light->leaving_next;
+    e.light->leaving_made = true;
+  }
+}
+
 // One pass over the hierarchy in one parallel region: gather (every element, no
 // order), push (levels top-down, a barrier after each), and with `full` also pull
-// (bottom-up) and the update B <- next, returning the largest change and radiosity.
-// Each part of the partition is done by one thread throughout; a smaller team than
-// asked for takes several parts each.
-template <class Gather>
+// (levels bottom-up), each element finished (finish_one, then `stored(e)`) as soon as
+// its pull is done, returning the largest change and radiosity. Nothing reads B or the
+// directional sums after the gather, so they can change during the pull. Each part of
+// the partition is done by one thread throughout; a smaller team than asked for takes
+// several parts each.
+template <class Gather, class Stored>
 SweepChange run_pass(const std::vector<Element*>& el, const Partition& p, bool cosine, bool full,
-                     const Gather& gather) {
+                     const Gather& gather, const Stored& stored) {
   std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts));
   const std::size_t levels = p.levels();
 #pragma omp parallel num_threads(p.parts)
@@ -200,20 +216,13 @@ SweepChange run_pass(const std::vector<Element*>& el, const Partition& p, bool c
     }
     if (full) {
       for (std::size_t l = levels; l-- > 0;) {
-        each(l, [](Element& e, int) { pull_one(e); });
+        each(l, [&](Element& e, int t) {
+          pull_one(e);
+          finish_one(e, per_part[static_cast<std::size_t>(t)]);
+          stored(e);
+        });
 #pragma omp barrier
       }
-      for (std::size_t l = 0; l < levels; ++l)
-        each(l, [&](Element& e, int t) {
-          SweepChange& c = per_part[static_cast<std::size_t>(t)];
-          c.change = std::max(c.change, (e.next - e.B).abs().maxCoeff());
-          c.largest = std::max(c.largest, e.next.abs().maxCoeff());
-          e.B = e.next;
-          if (e.light) {
-            e.light->leaving = e.light->leaving_next;
-            e.light->leaving_made = true;
-          }
-        });
     }
   }
   SweepChange total;
@@ -250,26 +259,192 @@ Rgb source_radiosity(const Link& l, const Element& r) {
   return s.light ? s.light->radiosity_towards(r.center - s.center, s.B) : s.B;
 }
 
-// One sweep; the clusters' ClusterLight must be allocated.
-double sweep(const std::vector<Element*>& elements, const Partition& p, ClusterReceiver mode,
-             bool grey) {
-  const bool cosine = mode == ClusterReceiver::Cosine;
-  SweepChange c;
-  if (grey && !cosine) {
-    // One channel: the same products and sums as channel 0 of the Rgb gather.
-    c = run_pass(elements, p, false, true, [](Element& e) {
-      double g = 0;
-      for (const Link& l : e.links) g += l.transport() * source_radiosity(l, e)[0];
-      e.gathered = Rgb::Constant(open_gain(e) * g);
-    });
+template <class V>
+V channels(const Rgb& x) {
+  if constexpr (std::is_same_v<V, double>) {
+    return x[0];
   } else {
-    c = run_pass(elements, p, cosine, true, [&](Element& e) {
-      gather_one(e, cosine,
-                 [&](const Link& l) -> Rgb { return l.transport() * source_radiosity(l, e); });
-    });
+    return x;
   }
-  return c.largest > 0 ? c.change / c.largest : 0.0;
 }
+
+// Every element's links as a sparse matrix over value slots, for the gather of the
+// propagation with isotropic cluster receivers. Slot i holds the radiosity of
+// elements[i]; a cluster has six more, the mean radiosity of its members facing each
+// axis direction (ClusterLight's leaving / open_area). A link from a surface is one
+// entry, its transport on the source's slot. A link from a cluster along d is up to
+// three, on the slots of the directions d is seen along, weighted by |d_i| open_area /
+// their sum: the same value as radiosity_towards gives. Links and open areas do not
+// change during a propagation, so the matrix is built once per propagation, and each
+// sweep's gather streams over it and a small dense array of values instead of reading
+// every link's source element (448 bytes apart; for a cluster its ClusterLight too).
+// Weights are floats, like the links' form factor and visibility they come from.
+class GatherMatrix {
+ public:
+  // `elements` parents before children, clusters prepared (prepare_clusters).
+  GatherMatrix(const std::vector<Element*>& elements, int threads) : row_(elements.size() + 1, 0) {
+    const auto n = static_cast<std::ptrdiff_t>(elements.size());
+    axis_.assign(elements.size(), 0);
+    std::size_t slot = elements.size();
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      elements[i]->index = static_cast<std::uint32_t>(i);
+      if (elements[i]->is_cluster()) {
+        axis_[i] = static_cast<std::uint32_t>(slot);
+        slot += 6;
+      }
+    }
+    slots_ = slot;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const Element& e = *elements[static_cast<std::size_t>(i)];
+      std::size_t count = 0;
+      for (const Link& l : e.links) entries(e, l, [&](std::uint32_t, double) { ++count; });
+      row_[static_cast<std::size_t>(i) + 1] = count;
+    }
+    for (std::size_t i = 0; i < elements.size(); ++i) row_[i + 1] += row_[i];
+    col_.resize(row_.back());
+    weight_.resize(row_.back());
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const Element& e = *elements[static_cast<std::size_t>(i)];
+      std::size_t j = row_[static_cast<std::size_t>(i)];
+      for (const Link& l : e.links)
+        entries(e, l, [&](std::uint32_t c, double w) {
+          col_[j] = c;
+          weight_[j] = static_cast<float>(w);
+          ++j;
+        });
+    }
+  }
+
+  [[nodiscard]] std::size_t slots() const { return slots_; }
+
+  /// Writes element e's slots of `values` from its B and directional sums.
+  template <class V>
+  void store(const Element& e, std::vector<V>& values) const {
+    values[e.index] = channels<V>(e.B);
+    if (!e.is_cluster()) return;
+    const ClusterLight& cl = *e.light;
+    for (std::size_t k = 0; k < 6; ++k)
+      values[axis_[e.index] + k] = cl.leaving_made && cl.open_area[k] > 0
+                                       ? channels<V>(cl.leaving[k] / cl.open_area[k])
+                                       : channels<V>(e.B);
+  }
+
+  /// Row e of the matrix times `values`: the irradiance e's own links deliver.
+  template <class V>
+  [[nodiscard]] V gather(const Element& e, const std::vector<V>& values) const {
+    V g = channels<V>(Rgb::Zero());
+    for (std::size_t j = row_[e.index]; j < row_[e.index + 1]; ++j)
+      g += static_cast<double>(weight_[j]) * values[col_[j]];
+    return g;
+  }
+
+ private:
+  // Calls emit(slot, weight) for each entry of link l at receiver e.
+  template <class Emit>
+  void entries(const Element& e, const Link& l, const Emit& emit) const {
+    const Element& s = *l.source;
+    const double t = l.transport();
+    if (!s.is_cluster()) {
+      emit(s.index, t);
+      return;
+    }
+    const Vec3 d = e.center - s.center;
+    const std::array<double, 6>& oa = s.light->open_area;
+    std::array<double, 3> part{};
+    double sum = 0;
+    for (int a = 0; a < 3; ++a) {
+      part[static_cast<std::size_t>(a)] =
+          std::abs(d[a]) * oa[static_cast<std::size_t>(2 * a + (d[a] < 0))];
+      sum += part[static_cast<std::size_t>(a)];
+    }
+    if (!(sum > 0)) {  // no member faces d: the cluster's mean, as radiosity_towards
+      emit(s.index, t);
+      return;
+    }
+    for (int a = 0; a < 3; ++a)
+      if (part[static_cast<std::size_t>(a)] > 0)
+        emit(axis_[s.index] + static_cast<std::uint32_t>(2 * a + (d[a] < 0)),
+             t * part[static_cast<std::size_t>(a)] / sum);
+  }
+
+  std::vector<std::size_t> row_;     // entries of elements[i]: row_[i] .. row_[i + 1]
+  std::vector<std::uint32_t> col_;   // value slot of each entry
+  std::vector<float> weight_;
+  std::vector<std::uint32_t> axis_;  // per element: its first axis slot (clusters)
+  std::size_t slots_ = 0;
+};
+
+// What a propagation keeps from sweep to sweep: the partition and, for isotropic
+// cluster receivers, the gather matrix and its values (one channel in a grey scene).
+class Sweeper {
+ public:
+  Sweeper(const std::vector<Element*>& elements, int threads, ClusterReceiver mode, bool grey)
+      : elements_(elements),
+        parts_(partition(elements, threads)),
+        cosine_(mode == ClusterReceiver::Cosine),
+        grey_(grey) {
+    prepare_clusters(elements);
+    if (cosine_) return;
+    matrix_.emplace(elements, threads);
+    if (grey_) {
+      init(channel0_);
+    } else {
+      init(colour_);
+    }
+  }
+
+  /// One sweep; returns the largest change relative to the largest radiosity.
+  double sweep() {
+    SweepChange c;
+    if (cosine_) {
+      // Cluster receivers split each link's light by its direction: per link.
+      c = run_pass(
+          elements_, parts_, true, true,
+          [&](Element& e) {
+            gather_one(e, true,
+                       [&](const Link& l) -> Rgb { return l.transport() * source_radiosity(l, e); });
+          },
+          [](const Element&) {});
+    } else if (grey_) {
+      c = pass(channel0_);
+    } else {
+      c = pass(colour_);
+    }
+    return c.largest > 0 ? c.change / c.largest : 0.0;
+  }
+
+ private:
+  template <class V>
+  void init(std::vector<V>& values) {
+    values.resize(matrix_->slots());
+    for (const Element* e : elements_) matrix_->store(*e, values);
+  }
+  template <class V>
+  SweepChange pass(std::vector<V>& values) {
+    const GatherMatrix& m = *matrix_;
+    return run_pass(
+        elements_, parts_, false, true,
+        [&](Element& e) {
+          const V g = m.gather(e, values);
+          if constexpr (std::is_same_v<V, double>) {
+            e.gathered = Rgb::Constant(open_gain(e) * g);
+          } else {
+            e.gathered = open_gain(e) * g;
+          }
+        },
+        [&](const Element& e) { m.store(e, values); });
+  }
+
+  const std::vector<Element*>& elements_;
+  Partition parts_;
+  bool cosine_;
+  bool grey_;
+  std::optional<GatherMatrix> matrix_;
+  std::vector<Rgb> colour_;
+  std::vector<double> channel0_;
+};
 
 }  // namespace
 
@@ -278,25 +453,24 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
   const bool cosine = mode == ClusterReceiver::Cosine;
   prepare_clusters(elements);
   const Partition p = partition(elements, threads);
-  run_pass(elements, p, cosine, false,
-           [&](Element& e) { gather_one(e, cosine, value, open_area); });
+  run_pass(
+      elements, p, cosine, false, [&](Element& e) { gather_one(e, cosine, value, open_area); },
+      [](const Element&) {});
 }
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads,
                          ClusterReceiver mode, bool grey) {
-  prepare_clusters(elements);
-  return sweep(elements, partition(elements, threads), mode, grey);
+  return Sweeper(elements, threads, mode, grey).sweep();
 }
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
                             int max_sweeps, int threads, ClusterReceiver mode, bool grey) {
   PropagationResult r;
-  const Partition parts = partition(elements, threads);  // links do not change here
-  prepare_clusters(elements);
+  Sweeper sweeper(elements, threads, mode, grey);  // links do not change here
   double previous = 0;
   int growing = 0;
   while (r.sweeps < max_sweeps) {
-    const double c = sweep(elements, parts, mode, grey);
+    const double c = sweeper.sweep();
     ++r.sweeps;
     r.last_change = c;
     if (c < 1e-13) {  // at round-off: nothing left to converge

@@ -2,7 +2,9 @@
 // repeated (Jacobi) until the radiosity stops changing.
 //
 // Gather:    g_e = sum over e's links of transport * B_source   (irradiance),
-//            divided by e's open fraction w_e (core/open_fraction.h)
+//            divided by e's open fraction w_e (core/open_fraction.h); with isotropic
+//            cluster receivers (the default) as a sparse matrix built once per
+//            propagation, over a dense array of the sources' values (the .cpp)
 // Push:      H_e = H_parent + g_e                                (top-down)
 // Leaf:      B'  = E + rho * s * H      (s: row-sum correction, 1 when off)
 // Pull:      B'_e = open-area-weighted mean of the children's B'  (bottom-up)
