@@ -98,9 +98,13 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
     st.min = std::min(st.min, used);
     st.max = std::max(st.max, used);
     st.area_mean += e->area * open * used;
+    if (std::abs(used - 1) <= kRowSumBand) st.within_band += e->area * open;
     area += e->area * open;
   }
-  if (area > 0) st.area_mean /= area;
+  if (area > 0) {
+    st.area_mean /= area;
+    st.within_band /= area;
+  }
   if (area <= 0) st.min = 0;
   st.corrected = st.open_capped;
   if (mode == RowSumMode::Keep) return st;

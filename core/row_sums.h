@@ -37,11 +37,17 @@ class RayScene;
 
 enum class RowSumMode : std::uint8_t { Keep, Clamp, Normalize };
 
+/// Half-width of the band around 1 that RowSumStats::within_band counts.
+inline constexpr double kRowSumBand = 0.03;
+
 /// Parses "keep", "clamp" or "normalize"; throws std::invalid_argument otherwise.
 RowSumMode parse_row_sum_mode(const std::string& name);
 
 struct RowSumStats {
   double min = 0, max = 0, area_mean = 0;  ///< of the uncorrected leaf row sums
+  /// Share of the leaves' open area whose row sum is within kRowSumBand of 1 (in a
+  /// closed scene, where every row sum should be 1: issue 13 asks for 99 %).
+  double within_band = 0;
   std::uint64_t corrected = 0;             ///< leaves whose gather_scale is not 1
   /// Leaves whose open-area gain was capped (see apply_row_sums), in every mode.
   std::uint64_t open_capped = 0;

@@ -80,6 +80,7 @@ struct IterationStats {
   double max_change = 0;            ///< relative radiosity change of the last sweep
   /// Leaf row sums (total transport gathered, see core/row_sums.h), uncorrected.
   double row_sum_min = 0, row_sum_max = 0, row_sum_mean = 0;
+  double row_sum_within_band = 0;  ///< open-area share within 1 +- kRowSumBand
   std::uint64_t row_sum_corrected = 0;  ///< leaves whose gathered irradiance was rescaled
   /// Open fractions (core/open_fraction.h): rays cast for them this iteration (also in
   /// rays_cast) and the open share of the leaves' area (1 - closed in by contacts).

@@ -219,6 +219,7 @@ RunStats Solver::run() {
     is.row_sum_min = rs.min;
     is.row_sum_max = rs.max;
     is.row_sum_mean = rs.area_mean;
+    is.row_sum_within_band = rs.within_band;
     is.row_sum_corrected = rs.corrected;
     const PropagationResult pr =
         propagate(elements, it < o.iterations ? std::max(o.gather_tolerance, kIntermediateTolerance)

@@ -95,6 +95,7 @@ nlohmann::json iteration_json(const IterationStats& it) {
        {{"min", number(it.row_sum_min)},
         {"max", number(it.row_sum_max)},
         {"area_mean", number(it.row_sum_mean)},
+        {"within_3pct", number(it.row_sum_within_band)},
         {"corrected", it.row_sum_corrected}}},
       {"open", {{"rays", it.open_rays}, {"area_fraction", number(it.open_area_fraction)}}},
   };
