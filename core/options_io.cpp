@@ -1,3 +1,4 @@
+#include "core/json_input.h"
 #include "core/options_io.h"
 
 #include <fmt/format.h>
@@ -220,7 +221,7 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
             throw std::invalid_argument(fmt::format(
                 "{}: option '{}' expects {} {}, got {} {}", source, key,
                 type_of(r->member) == OptionType::Int ? "an" : "a",
-                option_type_name(type_of(r->member)), value.type_name(), value.dump()));
+                option_type_name(type_of(r->member)), value.type_name(), brief_json(value)));
           o.*member = parsed;
         },
         r->member);
@@ -238,7 +239,7 @@ void apply_option_value(SolverOptions& o, std::string_view key, std::string_view
           throw std::invalid_argument(
               fmt::format("{}: option '{}' expects {} {}, got '{}'", source, r->name,
                           type_of(r->member) == OptionType::Int ? "an" : "a",
-                          option_type_name(type_of(r->member)), value));
+                          option_type_name(type_of(r->member)), brief_text(value)));
         o.*member = parsed;
       },
       r->member);

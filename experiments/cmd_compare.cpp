@@ -147,7 +147,7 @@ int run_compare(const CompareArgs& args) {
     }
     if (!args.json.empty()) write_json_atomically(args.json, j);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "hrad: {}\n", e.what());
+    print_error(e.what());
     return 1;
   }
   return 0;

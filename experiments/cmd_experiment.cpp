@@ -47,7 +47,7 @@ int run_command(const ExperimentArgs& a, const CommandContext& ctx) {
     for (const std::string& s : a.sets) apply_experiment_set(config, s);
     points = expand_sweep(config);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "hrad: {}\n", e.what());
+    print_error(e.what());
     return 1;
   }
   if (!a.out.empty() && !a.resume.empty() && fs::path(a.out) != fs::path(a.resume)) {
@@ -101,7 +101,7 @@ int run_command(const ExperimentArgs& a, const CommandContext& ctx) {
                  config.name, s.runs, s.ran, s.skipped, s.seconds, dir.string());
     for (const std::string& w : s.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "hrad: {}\n", e.what());
+    print_error(e.what());
     if (is_result_folder(dir))
       fmt::print(stderr, "hrad: finished runs are kept; resume with: hrad experiment {} --resume {}\n",
                  a.config, dir.string());

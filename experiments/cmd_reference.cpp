@@ -72,7 +72,7 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
       throw std::invalid_argument(fmt::format("--max-samples must be >= {}",
                                               check.batch_size * check.min_batches));
   } catch (const std::exception& e) {
-    fmt::print(stderr, "hrad: {}\n", e.what());
+    print_error(e.what());
     return 1;
   }
 
@@ -145,7 +145,7 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
                  r.rounds == 1 ? "" : "s", probes.size() - unconverged.size(), a.options.rel_error,
                  out.string());
   } catch (const std::exception& e) {
-    fmt::print(stderr, "hrad: {}\n", e.what());
+    print_error(e.what());
     std::error_code ec;
     if (created && fs::is_empty(out, ec)) fs::remove(out, ec);
     return 1;

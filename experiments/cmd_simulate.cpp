@@ -338,7 +338,7 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
     try {
       ctx.status = run_simulate(*args, ctx.argv);
     } catch (const std::exception& e) {
-      fmt::print(stderr, "hrad: {}\n", e.what());
+      print_error(e.what());
       ctx.status = 1;
     }
   });

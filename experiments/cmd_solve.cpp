@@ -12,6 +12,7 @@
 //      each written atomically. stats.json lists the files actually written and, if
 //      one failed, the error. A run that fails before writing anything removes the
 //      folder if it created it.
+#include "core/json_input.h"
 #include "core/input_error.h"
 #include "core/options_io.h"
 #include "core/ply_writer.h"
@@ -83,12 +84,7 @@ SolverOptions resolve_options(const SolveArgs& a) {
     if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the config file", a.config));
     std::stringstream text;
     text << in.rdbuf();
-    nlohmann::json j;
-    try {
-      j = nlohmann::json::parse(text.str(), nullptr, true, /*ignore_comments=*/true);
-    } catch (const nlohmann::json::parse_error& e) {
-      throw std::invalid_argument(fmt::format("{}: not valid JSON: {}", a.config, e.what()));
-    }
+    const auto j = parse_json_document<nlohmann::json>(text.str(), a.config, /*comments=*/true);
     apply_options_json(o, j, a.config);
   }
   for (const OptionFlag& f : kOptionFlags)
@@ -157,7 +153,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     progress = std::make_unique<ProgressReporter>(a.quiet);
     solver = std::make_unique<Solver>(scene, options, progress->callback());
   } catch (const std::exception& e) {
-    fmt::print(stderr, "hrad: {}\n", e.what());
+    print_error(e.what());
     return 1;
   }
 
@@ -224,7 +220,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   progress->finish();
 
   if (failure) {
-    fmt::print(stderr, "hrad: {}\n", failure->message);
+    print_error(failure->message);
     if (created && is_empty_dir(out)) fs::remove(out);
     return 1;
   }

@@ -53,7 +53,7 @@ void register_topology(CLI::App& app, CommandContext& ctx) {
       if (!args->pin.empty()) fmt::print("{}", format_pin_plan(t, args->pin, args->threads));
       ctx.status = 0;
     } catch (const std::exception& e) {
-      fmt::print(stderr, "hrad: {}\n", e.what());
+      print_error(e.what());
       ctx.status = 1;
     }
   });

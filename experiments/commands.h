@@ -14,6 +14,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hrad::cli {
@@ -35,6 +36,11 @@ std::string git_revision();
 /// exist before. On failure prints "hrad: cannot create the output folder: ..." and
 /// returns false.
 bool make_output_folder(const std::filesystem::path& out, bool& created);
+
+/// Prints "hrad: MESSAGE" to stderr, MESSAGE cut to kMaxErrorChars (a message that
+/// echoes a huge input value stays readable).
+void print_error(std::string_view message);
+inline constexpr std::size_t kMaxErrorChars = 2000;
 
 void register_solve(CLI::App& app, CommandContext& ctx);
 void register_scenes(CLI::App& app, CommandContext& ctx);

@@ -15,6 +15,15 @@ std::string git_revision() { return HRAD_GIT_REVISION; }
 
 std::string version_string() { return fmt::format("hrad {} (git {})", kVersion, git_revision()); }
 
+void print_error(std::string_view message) {
+  if (message.size() <= kMaxErrorChars) {
+    fmt::print(stderr, "hrad: {}\n", message);
+  } else {
+    fmt::print(stderr, "hrad: {}... ({} more characters)\n", message.substr(0, kMaxErrorChars),
+               message.size() - kMaxErrorChars);
+  }
+}
+
 bool make_output_folder(const std::filesystem::path& out, bool& created) {
   created = false;
   try {

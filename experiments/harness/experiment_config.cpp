@@ -1,3 +1,4 @@
+#include "core/json_input.h"
 #include "experiments/harness/experiment_config.h"
 
 #include "core/options_io.h"
@@ -47,13 +48,13 @@ nlohmann::json plain(const ojson& j) { return nlohmann::json::parse(j.dump()); }
 
 std::string get_string(const ojson& j, const std::string& key, const std::string& source) {
   if (!j.is_string())
-    fail(source, fmt::format("'{}' must be a string, got {} {}", key, j.type_name(), j.dump()));
+    fail(source, fmt::format("'{}' must be a string, got {} {}", key, j.type_name(), brief_json(j)));
   return j.get<std::string>();
 }
 
 int get_count(const ojson& j, const std::string& key, const std::string& source) {
   if (!j.is_number_integer() || j.get<std::int64_t>() < 1 || j.get<std::int64_t>() > 1000000)
-    fail(source, fmt::format("'{}' must be an integer >= 1, got {}", key, j.dump()));
+    fail(source, fmt::format("'{}' must be an integer >= 1, got {}", key, brief_json(j)));
   return j.get<int>();
 }
 
@@ -65,7 +66,7 @@ std::vector<std::string> get_scenes(const ojson& j, const std::string& key,
   std::vector<std::string> out;
   for (const ojson& s : j) {
     if (!s.is_string() || s.get<std::string>().empty())
-      fail(source, fmt::format("'{}' must hold non-empty strings, got {}", key, s.dump()));
+      fail(source, fmt::format("'{}' must hold non-empty strings, got {}", key, brief_json(s)));
     out.push_back(s.get<std::string>());
   }
   return out;
@@ -126,7 +127,7 @@ std::vector<SweepAxis> get_sweep(const ojson& j, const std::string& key,
                                option_key_list()));
     if (!item.value().is_array())
       fail(source, fmt::format("'{}.{}' must be a list of values, got {}", key, item.key(),
-                               item.value().dump()));
+                               brief_json(item.value())));
     if (item.value().empty())
       fail(source, fmt::format("'{}.{}' is an empty list: a sweep needs at least one value", key,
                                item.key()));
@@ -134,7 +135,7 @@ std::vector<SweepAxis> get_sweep(const ojson& j, const std::string& key,
     for (const ojson& v : item.value()) {
       const nlohmann::json pv = plain(v);
       if (std::find(axis.values.begin(), axis.values.end(), pv) != axis.values.end())
-        fail(source, fmt::format("'{}.{}' lists {} twice", key, item.key(), v.dump()));
+        fail(source, fmt::format("'{}.{}' lists {} twice", key, item.key(), brief_json(v)));
       axis.values.push_back(pv);
     }
     axes.push_back(std::move(axis));
@@ -158,7 +159,7 @@ void check_options(const ExperimentConfig& c, const std::string& source, const c
       fail(source, fmt::format("'{}' is both in {}settings and in the sweep: keep one", a.key,
                                part));
     for (const nlohmann::json& v : a.values)
-      checked_apply(base, a.key, ojson(v), source, fmt::format("sweep.{} = {}", a.key, v.dump()));
+      checked_apply(base, a.key, ojson(v), source, fmt::format("sweep.{} = {}", a.key, brief_json(v)));
   }
 }
 
@@ -177,20 +178,20 @@ AccuracySpec get_accuracy(const ojson& j, const std::string& source) {
     for (const auto& item : p.items()) {
       if (!item.value().is_string() || item.value().get<std::string>().empty())
         fail(source, fmt::format("'accuracy.probes.{}' must be a file name, got {}", item.key(),
-                                 item.value().dump()));
+                                 brief_json(item.value())));
       a.probes_by_scene.emplace_back(item.key(), item.value().get<std::string>());
     }
   } else {
     fail(source, fmt::format("'accuracy.probes' must be a file name or a non-empty object "
                              "scene -> file name, got {}",
-                             p.dump()));
+                             brief_json(p)));
   }
   const auto positive = [&](const char* key, bool allow_zero) {
     const ojson& v = j[key];
     if (!v.is_number() || !std::isfinite(v.get<double>()) ||
         (allow_zero ? v.get<double>() < 0 : v.get<double>() <= 0))
       fail(source, fmt::format("'accuracy.{}' must be a number {} 0, got {}", key,
-                               allow_zero ? ">=" : ">", v.dump()));
+                               allow_zero ? ">=" : ">", brief_json(v)));
     return v.get<double>();
   };
   if (j.contains("reference_rel_error"))
@@ -200,7 +201,7 @@ AccuracySpec get_accuracy(const ojson& j, const std::string& source) {
     const ojson& v = j["reference_max_samples"];
     if (!v.is_number_integer() || v.get<std::int64_t>() < 1)
       fail(source, fmt::format("'accuracy.reference_max_samples' must be an integer >= 1, got {}",
-                               v.dump()));
+                               brief_json(v)));
     a.reference_max_samples = v.get<std::int64_t>();
   }
   return a;
@@ -259,7 +260,7 @@ ExperimentConfig parse_experiment_config(const ojson& j, const std::string& sour
     } else if (p.is_array()) {
       for (const ojson& s : p) c.plots.push_back(get_string(s, "plot", source));
     } else {
-      fail(source, fmt::format("'plot' must be a string or a list of strings, got {}", p.dump()));
+      fail(source, fmt::format("'plot' must be a string or a list of strings, got {}", brief_json(p)));
     }
     for (const std::string& s : c.plots)
       if (s.empty() || s.find_first_of("/\\. ") != std::string::npos)
@@ -295,12 +296,7 @@ ExperimentConfig load_experiment_config(const std::filesystem::path& path) {
   if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the file", path.string()));
   std::stringstream text;
   text << in.rdbuf();
-  ojson j;
-  try {
-    j = ojson::parse(text.str(), nullptr, true, /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::invalid_argument(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
-  }
+  const auto j = parse_json_document<ojson>(text.str(), path.string(), /*comments=*/true);
   ExperimentConfig c = parse_experiment_config(j, path.string());
   c.accuracy.base_dir = path.parent_path();
   return c;

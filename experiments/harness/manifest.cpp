@@ -1,3 +1,4 @@
+#include "core/json_input.h"
 #include "experiments/harness/manifest.h"
 
 #include "core/atomic_file.h"
@@ -134,9 +135,9 @@ ojson read_manifest(const std::filesystem::path& dir) {
   std::stringstream s;
   s << in.rdbuf();
   try {
-    return ojson::parse(s.str());
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+    return parse_json_document<ojson>(s.str(), path.string(), /*comments=*/false);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
   }
 }
 

@@ -1,3 +1,4 @@
+#include "core/json_input.h"
 #include "experiments/sim/cost_model.h"
 
 #include <fmt/format.h>
@@ -94,11 +95,13 @@ CostModel default_costs(Policy policy) {
 void load_costs(const std::filesystem::path& file, CostModel& costs) {
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + ": cannot open the cost file");
+  std::stringstream text;
+  text << in.rdbuf();
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}: not JSON: {}", file.string(), e.what()));
+    j = parse_json_document<nlohmann::json>(text.str(), file.string(), /*comments=*/true);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
   }
   if (!j.is_object()) throw std::runtime_error(file.string() + ": the cost file must hold one JSON object");
   for (const auto& [key, value] : j.items()) {
