@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -264,7 +266,13 @@ struct MtlBlock {
   int kd_line = 0, ke_line = 0;  ///< 0 when absent
   std::array<double, 3> kd{}, ke{};
   std::array<std::string_view, 3> kd_text{}, ke_text{};
+  bool kd_grey = false, ke_grey = false;  ///< given as one number (MTL: g = b = r)
 };
+
+/// A Kd or Ke line's numbers as the file wrote them.
+std::string as_written(const std::array<std::string_view, 3>& text, bool grey) {
+  return grey ? std::string(text[0]) : fmt::format("{} {} {}", text[0], text[1], text[2]);
+}
 
 struct MtlScan {
   std::vector<MtlBlock> blocks;
@@ -283,10 +291,10 @@ MtlScan scan_mtl(std::string_view text, const std::string& file) {
       if (tok.size() < 2) throw InputError(file, line, "newmtl needs a material name");
       s.blocks.push_back({std::string(tok[1]), line});
     } else if (tok[0] == "Kd" || tok[0] == "Ke") {
-      if (tok.size() != 4)
+      if (tok.size() != 4 && tok.size() != 2)
         throw InputError(file, line,
-                         fmt::format("{} needs three numbers r g b (the spectral and xyz forms "
-                                     "are not supported)",
+                         fmt::format("{} needs three numbers r g b, or one for a grey (the "
+                                     "spectral and xyz forms are not supported)",
                                      tok[0]));
       if (s.blocks.empty()) {
         ++s.stray;
@@ -295,9 +303,12 @@ MtlScan scan_mtl(std::string_view text, const std::string& file) {
       MtlBlock& b = s.blocks.back();
       const bool kd = tok[0] == "Kd";
       (kd ? b.kd_line : b.ke_line) = line;
+      const bool grey = tok.size() == 2;
+      (kd ? b.kd_grey : b.ke_grey) = grey;
       for (int c = 0; c < 3; ++c) {
-        (kd ? b.kd : b.ke)[c] = parse_number(tok[c + 1], kd ? "Kd" : "Ke", file, line);
-        (kd ? b.kd_text : b.ke_text)[c] = tok[c + 1];
+        const std::string_view t = tok[grey ? 1 : static_cast<std::size_t>(c + 1)];
+        (kd ? b.kd : b.ke)[c] = parse_number(t, kd ? "Kd" : "Ke", file, line);
+        (kd ? b.kd_text : b.ke_text)[c] = t;
       }
     }
   }
@@ -341,15 +352,36 @@ void add_materials(const MtlText& mtl, SceneBuilder& b,
     const tobj::material_t& m = mats[k];
     Material mat;
     mat.name = blk.name;
+    // tinyobjloader reads a one-number Kd or Ke as (v, 0, 0); the MTL format means
+    // (v, v, v), so those come from the pre-scan, and three numbers must agree.
     for (int c = 0; c < 3; ++c) {
-      if (blk.kd_line > 0)
+      if (blk.kd_line > 0 && !blk.kd_grey)
         cross_check(blk.kd[c], m.diffuse[c], blk.kd_text[c], mtl.file, blk.kd_line);
-      if (blk.ke_line > 0)
+      if (blk.ke_line > 0 && !blk.ke_grey)
         cross_check(blk.ke[c], m.emission[c], blk.ke_text[c], mtl.file, blk.ke_line);
-      mat.reflectance[c] = m.diffuse[c];
+      mat.reflectance[c] = blk.kd_line > 0 ? blk.kd[c] : m.diffuse[c];
       // Ke is radiance L; a Lambertian emitter's exitance is pi * L.
-      mat.emission[c] = std::numbers::pi * m.emission[c];
+      mat.emission[c] = std::numbers::pi * (blk.ke_line > 0 ? blk.ke[c] : m.emission[c]);
     }
+    // Errors quote the numbers as the file has them (not pi x Ke, nor 0.7 printed
+    // back as 0.7000000000000001).
+    const auto in_range = [](const std::array<double, 3>& v, double hi) {
+      return std::all_of(v.begin(), v.end(), [&](double x) { return x >= 0 && x <= hi; });
+    };
+    if (blk.kd_line > 0 && !in_range(blk.kd, 1))
+      throw InputError(mtl.file, blk.kd_line,
+                       fmt::format("material '{}': Kd {} is outside [0, 1]", blk.name,
+                                   as_written(blk.kd_text, blk.kd_grey)));
+    if (blk.ke_line > 0 && !in_range(blk.ke, std::numeric_limits<double>::max()))
+      throw InputError(mtl.file, blk.ke_line,
+                       fmt::format("material '{}': Ke {} is negative or not finite", blk.name,
+                                   as_written(blk.ke_text, blk.ke_grey)));
+    if (blk.ke_line > 0 && !in_range(blk.ke, kMaxExitance / std::numbers::pi))
+      throw InputError(
+          mtl.file, blk.ke_line,
+          fmt::format("material '{}': Ke {} is too large: its exitance pi x Ke must not exceed "
+                      "{:g} (results are 32-bit floats, and interreflection multiplies it)",
+                      blk.name, as_written(blk.ke_text, blk.ke_grey), kMaxExitance));
     if (blk.kd_line == 0) ++without_kd;
     const Rgb& r = mat.reflectance;
     const bool rho_ok = r.isFinite().all() && (r >= 0).all() && (r <= 1).all();

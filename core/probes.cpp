@@ -148,6 +148,9 @@ std::string probes_csv(const std::vector<Probe>& probes, const std::vector<Rgb>&
   if (probes.size() != irradiance.size())
     throw std::invalid_argument(fmt::format("probes_csv: {} probes but {} irradiance values",
                                             probes.size(), irradiance.size()));
+  for (std::size_t i = 0; i < irradiance.size(); ++i)
+    if (!irradiance[i].allFinite())
+      throw std::invalid_argument(fmt::format("probes_csv: probe {} has a non-finite irradiance", i + 1));
   std::string out = "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
   for (std::size_t i = 0; i < probes.size(); ++i) {
     const Vec3& p = probes[i].p;

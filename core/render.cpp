@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -32,6 +33,11 @@ void check_render_mesh(const RenderMesh& mesh) {
         !mesh.radiosity[i].allFinite() || (mesh.radiosity[i] < 0).any())
       throw std::invalid_argument(
           fmt::format("RenderMesh: vertex {} has a non-finite or negative value", i));
+    // solution.ply stores 32-bit floats: beyond their range a value would be inf.
+    if ((mesh.radiosity[i] > static_cast<double>(std::numeric_limits<float>::max())).any())
+      throw std::invalid_argument(fmt::format(
+          "RenderMesh: vertex {} has radiosity {:g}, beyond the range of 32-bit floats", i,
+          mesh.radiosity[i].maxCoeff()));
   }
   for (std::size_t p = 0; p < mesh.polys.size(); ++p) {
     const auto& q = mesh.polys[p];

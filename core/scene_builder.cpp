@@ -41,6 +41,12 @@ std::uint32_t SceneBuilder::add_material(Material m, const SourceLoc& at) {
     throw InputError(at.file, at.line,
                      fmt::format("material '{}': emission ({}, {}, {}) is negative or not finite",
                                  m.name, m.emission[0], m.emission[1], m.emission[2]));
+  if ((m.emission > kMaxExitance).any())
+    throw InputError(at.file, at.line,
+                     fmt::format("material '{}': emission ({:g}, {:g}, {:g}) is above {:g} "
+                                 "(results are 32-bit floats, and interreflection multiplies it)",
+                                 m.name, m.emission[0], m.emission[1], m.emission[2],
+                                 kMaxExitance));
   scene_.materials.push_back(std::move(m));
   return static_cast<std::uint32_t>(scene_.materials.size() - 1);
 }

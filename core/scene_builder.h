@@ -19,6 +19,12 @@ struct SourceLoc {
   int line = 0;
 };
 
+/// Largest exitance (emission, W per unit area) a material may have: results are
+/// written as 32-bit floats (at most 3.4e38), and interreflection multiplies the
+/// emission by up to 1 / (1 - rho); 1e30 leaves room for both. (Ke 1e40 solved with
+/// exit 0 and wrote inf into solution.ply.)
+inline constexpr double kMaxExitance = 1e30;
+
 class SceneBuilder {
  public:
   SceneBuilder(std::string name, std::string source);

@@ -49,4 +49,26 @@ TEST_F(HostileInput, DeeplyNestedOrHugeJsonIsRejectedWithAShortMessage) {
   EXPECT_EQ(entries(), 4);  // the four files written here, no output folder
 }
 
+// Ke 1e40 solved with exit 0 and wrote inf into solution.ply and a red image.
+TEST_F(HostileInput, EmissionBeyondWhatResultsCanHoldIsRejected) {
+  write("box.obj",
+        "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\n"
+        "v 0 1 1\nusemtl wall\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\n"
+        "usemtl light\nf 1 4 8 5\n");
+  write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1e40 5 5\n");
+  const Result r = hrad("solve box.obj --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "box.mtl:5: material 'light': Ke 1e40 5 5 is too large")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "run"));
+}
+
+// rho = 1 in a closed scene has no finite solution; it ran to the sweep cap silently.
+TEST_F(HostileInput, TotalReflectanceIsReported) {
+  const Result r = hrad(
+      "solve builtin:furnace?rho=1 --iterations 1 --set max_gather_sweeps=50 --out run --quiet");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "reflects all light (reflectance 1)")) << r.err;
+  EXPECT_TRUE(contains(hrad::test::read_text(dir_ / "run" / "stats.json"), "no finite solution"));
+}
+
 }  // namespace

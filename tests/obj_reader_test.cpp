@@ -208,9 +208,36 @@ TEST(ObjMaterials, InlineMtlErrorsNameTheMtlAndTheLine) {
   EXPECT_EQ(ke.line(), 3);
   const InputError nan = parse_error(kTriangle, "newmtl a\nKd 0.5 nan 0.5\n");
   EXPECT_EQ(nan.line(), 2);
-  const InputError short_kd = parse_error(kTriangle, "newmtl a\nKd 0.5\n");
+  const InputError short_kd = parse_error(kTriangle, "newmtl a\nKd 0.5 0.5\n");
   EXPECT_EQ(short_kd.line(), 2);
   EXPECT_NE(std::string(short_kd.what()).find("three numbers"), std::string::npos);
+}
+
+// MTL: "If only r is specified, then g and b are assumed to be equal to r"
+// (tinyobjloader reads (r, 0, 0); before, hrad refused the line).
+TEST(ObjMaterials, OneNumberKdOrKeIsAGrey) {
+  const Scene s = parse_obj(std::string(kTriangle) + "usemtl a\nf 1 2 3\n",
+                            "newmtl a\nKd 0.7\nKe 2\n", "t.obj");
+  const Material& m = s.face_material(0);
+  EXPECT_EQ(m.reflectance.matrix(), Vec3::Constant(0.7));
+  EXPECT_EQ(m.emission.matrix(), Vec3::Constant(2 * kPi));
+}
+
+// Errors quote the file's numbers: not 0.7 printed back as 0.7000000000000001, nor
+// pi x Ke; and an emission that 32-bit results cannot hold is refused (Ke 1e40 solved
+// with exit 0 and wrote inf into solution.ply).
+TEST(ObjMaterials, BadKdAndKeAreQuotedAsWritten) {
+  const auto what = [](const char* mtl) { return std::string(parse_error(kTriangle, mtl).what()); };
+  EXPECT_NE(what("newmtl a\nKd 1.2 0.7 0.7\n").find("t.mtl:2: material 'a': Kd 1.2 0.7 0.7 is outside [0, 1]"),
+            std::string::npos) << what("newmtl a\nKd 1.2 0.7 0.7\n");
+  EXPECT_NE(what("newmtl a\nKd 0 0 0\nKe -1 1 1\n").find("Ke -1 1 1 is negative"), std::string::npos)
+      << what("newmtl a\nKd 0 0 0\nKe -1 1 1\n");
+  const InputError big = parse_error(kTriangle, "newmtl a\nKd 0 0 0\nKe 1e40 5 5\n");
+  EXPECT_EQ(big.line(), 3);
+  EXPECT_NE(std::string(big.what()).find("Ke 1e40 5 5 is too large"), std::string::npos) << big.what();
+  // Just below the cap is fine.
+  EXPECT_NO_THROW(parse_obj(std::string(kTriangle) + "usemtl a\nf 1 2 3\n",
+                            "newmtl a\nKd 0 0 0\nKe 3e29 0 0\n", "t.obj"));
 }
 
 TEST(ObjMaterials, FacesWithoutMaterialGetTheDefaultGrey) {

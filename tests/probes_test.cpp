@@ -5,6 +5,8 @@
 #include "core/scene.h"
 
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <unistd.h>
 
 #include <filesystem>
@@ -108,6 +110,10 @@ TEST(Probes, CsvHasHeaderAndNineSignificantDigits) {
             "1,2,3,0,0,1,0.1,0,123456789\n"
             "0.333333333,-2.5e-07,1e+20,0,-1,0,0.666666667,1e-300,7\n");
   EXPECT_THROW(write_probes_csv(path, probes, {Rgb::Zero()}), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(path));
+  // No non-finite value reaches the file.
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(write_probes_csv(path, probes, {Rgb(1, 1, 1), Rgb(inf, 0, 0)}), std::invalid_argument);
   EXPECT_FALSE(std::filesystem::exists(path));
 }
 

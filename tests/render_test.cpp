@@ -182,6 +182,12 @@ TEST(Render, RejectsBadMeshesAndCameras) {
   m = square({1, 1, 1, 1});
   m.radiosity.pop_back();
   EXPECT_THROW(check_render_mesh(m), std::invalid_argument);
+  // solution.ply stores 32-bit floats: a radiosity beyond them would be written as inf.
+  m = square({1, 1, 1, 1e39});
+  EXPECT_THROW(check_render_mesh(m), std::invalid_argument);
+  EXPECT_THROW((void)encode_ply(m, ToneMap{}), std::invalid_argument);
+  m = square({1, 1, 1, 1e38});
+  EXPECT_NO_THROW(check_render_mesh(m));
 }
 
 TEST(Render, MeshFromEmissionSplitsLargePolygonsAndCopiesEmission) {
