@@ -1,5 +1,6 @@
-#include "core/json_input.h"
 #include "core/options_io.h"
+
+#include "core/json_input.h"
 
 #include <fmt/format.h>
 

@@ -9,6 +9,7 @@
 // table on stdout; --json FILE writes the same numbers (atomically). Exit 1 with a
 // message naming the files for anything that cannot be compared.
 #include "core/error_metrics.h"
+#include "core/json_input.h"
 #include "core/ply_reader.h"
 #include "core/stats_json.h"
 #include "experiments/commands.h"
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 namespace hrad::cli {
 namespace {
@@ -49,6 +51,25 @@ std::string scene_source(const fs::path& dir) {
     }
   }
   return "";
+}
+
+/// Whether DIR holds the result file NAME for this comparison: a `solve` folder's
+/// stats.json must list it under outputs.KEY (a file the run did not write, left from
+/// an earlier run into the same folder, is not its result); a folder without
+/// stats.json (`hrad reference`, or files put together by hand) holds what is there.
+bool holds_result(const fs::path& dir, const char* key, const char* name) {
+  if (!fs::exists(dir / name)) return false;
+  std::ifstream in(dir / "stats.json");
+  if (!in) return true;
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    const auto j = parse_json_document<nlohmann::json>(text.str(), (dir / "stats.json").string(), false);
+    const auto outputs = j.find("outputs");
+    return outputs != j.end() && outputs->is_object() && outputs->value(key, "") == name;
+  } catch (const std::exception&) {
+    return false;
+  }
 }
 
 nlohmann::json probe_report(const ProbeTable& a, const ProbeTable& b, double floor, bool rows) {
@@ -127,17 +148,31 @@ int run_compare(const CompareArgs& args) {
       if (!fs::exists(p)) throw std::invalid_argument(fmt::format("{}: no such file or folder", p.string()));
     nlohmann::json j = nlohmann::json::object();
     if (!fs::is_directory(a) || !fs::is_directory(b)) {
-      j["probes"] = probe_report(read_probe_table(a), read_probe_table(b), args.floor, args.per_probe);
+      // A folder against a file: the folder's probes.csv, if it is its run's.
+      const auto probe_file = [](const fs::path& p) {
+        if (!fs::is_directory(p)) return p;
+        if (!holds_result(p, "probes", "probes.csv"))
+          throw std::invalid_argument(fmt::format(
+              "{}: holds no probes.csv (in a solve folder, only the files its stats.json lists "
+              "under 'outputs' count)",
+              p.string()));
+        return p / "probes.csv";
+      };
+      j["probes"] = probe_report(read_probe_table(probe_file(a)), read_probe_table(probe_file(b)),
+                                 args.floor, args.per_probe);
     } else {
       const std::string sa = scene_source(a), sb = scene_source(b);
       if (!sa.empty() && !sb.empty() && sa != sb)
         throw std::invalid_argument(fmt::format("{} solved '{}' but {} solved '{}': not the same scene",
                                                 a.string(), sa, b.string(), sb));
-      const bool probes = fs::exists(a / "probes.csv") && fs::exists(b / "probes.csv");
-      const bool surfaces = fs::exists(a / "solution.ply") && fs::exists(b / "solution.ply");
+      const bool probes =
+          holds_result(a, "probes", "probes.csv") && holds_result(b, "probes", "probes.csv");
+      const bool surfaces =
+          holds_result(a, "mesh", "solution.ply") && holds_result(b, "mesh", "solution.ply");
       if (!probes && !surfaces)
         throw std::invalid_argument(fmt::format(
-            "nothing to compare: {} and {} do not both hold probes.csv or both solution.ply",
+            "nothing to compare: {} and {} do not both hold probes.csv or both solution.ply "
+            "(in a solve folder, only the files its stats.json lists under 'outputs' count)",
             a.string(), b.string()));
       if (probes)
         j["probes"] = probe_report(read_probe_table(a / "probes.csv"),

@@ -12,8 +12,8 @@
 //      each written atomically. stats.json lists the files actually written and, if
 //      one failed, the error. A run that fails before writing anything removes the
 //      folder if it created it.
-#include "core/json_input.h"
 #include "core/input_error.h"
+#include "core/json_input.h"
 #include "core/options_io.h"
 #include "core/ply_writer.h"
 #include "core/probes.h"
@@ -161,6 +161,13 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   const fs::path out = a.out.empty() ? default_out_dir(scene) : fs::path(a.out);
   bool created = false;
   if (!make_output_folder(out, created)) return 1;
+  // Results of an earlier run into the same folder go first: a file this run does not
+  // write (probes.csv of a run with probes, followed by one without) must not pass for
+  // its result. Other files in the folder are left alone.
+  for (const char* name : {"stats.json", "solution.ply", "render.png", "probes.csv"}) {
+    std::error_code ec;
+    fs::remove(out / name, ec);
+  }
 
   // 5-6: run and write. stats.json comes last so that it lists what was written.
   std::vector<std::string> written;  // paths as given to the user

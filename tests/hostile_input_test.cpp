@@ -71,4 +71,25 @@ TEST_F(HostileInput, TotalReflectanceIsReported) {
   EXPECT_TRUE(contains(hrad::test::read_text(dir_ / "run" / "stats.json"), "no finite solution"));
 }
 
+// A run with probes, then one without into the same folder: compare reported the
+// first run's probes as the second's.
+TEST_F(HostileInput, StaleResultFilesAreNeitherKeptNorCompared) {
+  write("probes.txt", "1 1 1 0 1 0\n2 0.001 2 0 1 0\n");
+  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --probes probes.txt --out d --quiet").status, 0);
+  fs::copy_file(dir_ / "d" / "probes.csv", dir_ / "ref.csv");
+  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --eps 1e-2 --out d --quiet").status, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "d" / "probes.csv"));
+  Result r = hrad("compare d ref.csv");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "holds no probes.csv")) << r.err;
+  // A probes.csv put into a solve folder by hand is not that run's result either.
+  fs::copy_file(dir_ / "ref.csv", dir_ / "d" / "probes.csv");
+  r = hrad("compare d ref.csv");
+  EXPECT_EQ(r.status, 1) << r.out;
+  // Files hrad does not write are left alone.
+  write("d/notes.txt", "mine");
+  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --eps 1e-2 --out d --quiet").status, 0);
+  EXPECT_TRUE(fs::exists(dir_ / "d" / "notes.txt"));
+}
+
 }  // namespace

@@ -1,6 +1,6 @@
-#include "core/json_input.h"
 #include "experiments/harness/experiment_config.h"
 
+#include "core/json_input.h"
 #include "core/options_io.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"

@@ -1,7 +1,7 @@
-#include "core/json_input.h"
 #include "experiments/harness/manifest.h"
 
 #include "core/atomic_file.h"
+#include "core/json_input.h"
 #include "core/topology.h"
 #include "experiments/harness/run_rows.h"
 

@@ -1,10 +1,12 @@
-#include "core/json_input.h"
 #include "experiments/sim/cost_model.h"
+
+#include "core/json_input.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
