@@ -103,6 +103,7 @@ struct XfFrame {
   std::uint64_t id = 0;       ///< identifies `world` for the vertex cache
   std::size_t begin = 0;      ///< entity index of the xf begin (arrays rewind here)
   int line = 0;
+  long instances = 1;         ///< array instances of this frame times its enclosing frames'
 };
 
 struct VertexKey {
@@ -132,7 +133,7 @@ class MgfParser {
   void entity(Args t, const SourceLoc& at, const Source& src, int depth);
   void include(Args t, const SourceLoc& at, const Source& src, int depth);
   const Source& load(const fs::path& p, const SourceLoc& at);
-  void push_xf(XfSpec spec, std::size_t begin, int line);
+  void push_xf(XfSpec spec, std::size_t begin, int line, const SourceLoc& at);
   void set_world(XfFrame& f);
   bool next_instance(XfFrame& f) const;
   void charge(std::int64_t n, const SourceLoc& at);
@@ -204,8 +205,18 @@ void MgfParser::set_world(XfFrame& f) {
   f.id = ++xf_ids_;
 }
 
-void MgfParser::push_xf(XfSpec spec, std::size_t begin, int line) {
+void MgfParser::push_xf(XfSpec spec, std::size_t begin, int line, const SourceLoc& at) {
   XfFrame f;
+  f.instances = xf_.empty() ? 1 : xf_.back().instances;
+  for (const XfGroup& g : spec.groups) {
+    if (!g.array) continue;
+    if (g.count > opt_.max_instances / f.instances)
+      throw InputError(at.file, line,
+                       fmt::format("xf: this array makes more than {} instances with the arrays "
+                                   "around it (MgfOptions::max_instances)",
+                                   opt_.max_instances));
+    f.instances *= g.count;
+  }
   f.index.assign(spec.array_dims(), 0);
   f.spec = std::move(spec);
   f.begin = begin;
@@ -241,7 +252,7 @@ void MgfParser::run(const Source& src, int depth) {
       continue;
     }
     if (t.size() > 1) {
-      push_xf(parse_xf(Args(t).subspan(1), at, lim), k, e.line);
+      push_xf(parse_xf(Args(t).subspan(1), at, lim), k, e.line, at);
       continue;
     }
     if (xf_.size() <= base)
@@ -335,7 +346,7 @@ void MgfParser::include(Args t, const SourceLoc& at, const Source& src, int dept
     run(inc, depth + 1);
     return;
   }
-  push_xf(parse_xf(t.subspan(2), at, {opt_.max_array, opt_.max_repeat}), 0, at.line);
+  push_xf(parse_xf(t.subspan(2), at, {opt_.max_array, opt_.max_repeat}), 0, at.line, at);
   const std::size_t mine = xf_.size() - 1;
   for (;;) {
     run(inc, depth + 1);
@@ -594,7 +605,8 @@ void check_options(const MgfOptions& o) {
   if (o.segments < 3 || o.segments > 4096)
     throw std::invalid_argument(fmt::format("MgfOptions::segments {} is outside [3, 4096]",
                                             o.segments));
-  if (o.max_include_depth < 0 || o.max_array < 1 || o.max_repeat < 0 || o.max_work < 1)
+  if (o.max_include_depth < 0 || o.max_array < 1 || o.max_repeat < 0 || o.max_work < 1 ||
+      o.max_instances < 1)
     throw std::invalid_argument("MgfOptions: a limit is out of range");
 }
 

@@ -48,9 +48,16 @@ struct MgfOptions {
   /// Largest instance count of one `-a N`, and largest `-i N`.
   long max_array = 100000;
   long max_repeat = 1000000;
+  /// Most instances a transform array may make, counting those of every enclosing
+  /// array (xf -a 1000 -a 1000 makes 1,000,000); more is an InputError at its xf line,
+  /// before anything is expanded (xf -a 100000 -a 100000 around one face grew past
+  /// 4 GB before max_work stopped it).
+  long max_instances = 1000000;
   /// Entities executed plus polygons generated, after expanding arrays and includes;
-  /// more is an InputError (guards against exponential include/array blow-up).
-  std::int64_t max_work = 200'000'000;
+  /// more is an InputError (guards against exponential include/array blow-up). A
+  /// polygon costs the solver about 1.5 KB (a 1,000,000-triangle array: 1.5 GB), so
+  /// this keeps a scene within the memory of a workstation.
+  std::int64_t max_work = 10'000'000;
 };
 
 /// Reads an MGF file. Throws InputError (file, line) on bad input, including a file

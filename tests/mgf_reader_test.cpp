@@ -413,6 +413,16 @@ TEST(MgfErrors, MalformedPrimitivesAndLimits) {
   MgfOptions small;
   small.max_work = 100000;
   EXPECT_EQ(line_of(prelude() + "xf -a 1000 -t 1 0 0 -a 1000 -t 0 1 0\nsph c 1\nxf\n", small), 7);
+  // Instances: xf -a 100000 -a 100000 around one face grew past 4 GB; it is refused at
+  // its xf line before anything is expanded, and so are nested arrays that multiply past
+  // max_instances (the default, 1,000,000, is reached here by 1001 x 1000).
+  const std::string face = "v a =\n p 0 0 0\nv b =\n p 1 0 0\nv d =\n p 0 1 0\n";
+  EXPECT_EQ(line_of(prelude() + face + "xf -a 100000 -a 100000\nf a b d\nxf\n"), 12);
+  EXPECT_EQ(line_of(prelude() + face + "xf -a 1001 -t 1 0 0\nxf -a 1000 -t 0 1 0\nf a b d\nxf\nxf\n"), 13);
+  MgfOptions tiny;
+  tiny.max_instances = 10;
+  EXPECT_EQ(line_of(prelude() + face + "xf -a 5\nxf -a 3\nf a b d\nxf\nxf\n", tiny), 13);
+  EXPECT_EQ(line_of(prelude() + face + "xf -a 5\nxf -a 2\nf a b d\nxf\nxf\n", tiny), -1);
   MgfOptions bad;
   bad.segments = 2;
   EXPECT_THROW(parse_mgf(prelude() + "sph c 1\n", "t.mgf", bad), std::invalid_argument);
