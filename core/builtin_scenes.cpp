@@ -78,7 +78,14 @@ const std::vector<BuiltinInfo>& builtin_scenes() {
 
 bool is_builtin_spec(std::string_view spec) { return spec.starts_with(kPrefix); }
 
-Scene make_builtin(const std::string& spec) {
+namespace {
+
+struct ParsedSpec {
+  std::size_t which = 0;  ///< index into entries() and builtin_scenes()
+  std::map<std::string, double> values;
+};
+
+ParsedSpec parse_spec(const std::string& spec) {
   auto fail = [&](const std::string& what) { return InputError(spec, 0, what); };
   if (!is_builtin_spec(spec))
     throw fail(fmt::format("not a builtin scene spec (it must start with '{}')", kPrefix));
@@ -127,7 +134,16 @@ Scene make_builtin(const std::string& spec) {
                              param->min_value, param->max_value));
     values[key] = v;
   }
-  return list[which].make(builtin::Args(spec, std::move(values)));
+  return {which, std::move(values)};
 }
+
+}  // namespace
+
+Scene make_builtin(const std::string& spec) {
+  ParsedSpec p = parse_spec(spec);
+  return entries()[p.which].make(builtin::Args(spec, std::move(p.values)));
+}
+
+void check_builtin_spec(const std::string& spec) { (void)parse_spec(spec); }
 
 }  // namespace hrad

@@ -50,6 +50,9 @@ bool is_builtin_spec(std::string_view spec);
 /// is required, or outside the parameter's [min, max].
 Scene make_builtin(const std::string& spec);
 
+/// Throws what make_builtin(spec) would for a bad spec, without building the scene.
+void check_builtin_spec(const std::string& spec);
+
 namespace builtin {
 
 /// The parsed parameters of one spec: every declared parameter, given or defaulted.

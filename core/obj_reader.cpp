@@ -507,7 +507,7 @@ std::string read_text(const std::string& path, const std::string& err_file, int 
     throw InputError(
         err_file, err_line,
         fmt::format("{} {}", what,
-                    std::filesystem::exists(path, ec) ? "is not a regular file" : "not found"));
+                    std::filesystem::exists(path, ec) ? "is not a regular file" : "does not exist"));
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();

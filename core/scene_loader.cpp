@@ -11,17 +11,36 @@
 
 namespace hrad {
 
+namespace {
+
+/// The file extension, lower case; throws for one that is not a scene format.
+std::string scene_format(const std::string& spec) {
+  std::string ext = std::filesystem::path(spec).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext != ".obj" && ext != ".mgf")
+    throw InputError(spec, 0,
+                     "unknown scene format '" + ext + "' (expected .obj, .mgf or builtin:NAME)");
+  return ext;
+}
+
+}  // namespace
+
 Scene load_scene(const std::string& spec) {
   // Every "builtin:" spec goes to make_builtin, so an unknown builtin name gets its
   // own message rather than "unknown format".
   if (spec.starts_with("builtin:")) return make_builtin(spec);
-  std::string ext = std::filesystem::path(spec).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".obj") return read_obj(spec);
-  if (ext == ".mgf") return read_mgf(spec);
-  throw InputError(spec, 0,
-                   "unknown scene format '" + ext + "' (expected .obj, .mgf or builtin:NAME)");
+  return scene_format(spec) == ".obj" ? read_obj(spec) : read_mgf(spec);
+}
+
+void check_scene_spec(const std::string& spec) {
+  if (spec.starts_with("builtin:")) return check_builtin_spec(spec);
+  scene_format(spec);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(spec, ec))
+    throw InputError(spec, 0,
+                     std::filesystem::exists(spec, ec) ? "the file is not a regular file"
+                                                       : "the file does not exist");
 }
 
 }  // namespace hrad

@@ -13,4 +13,9 @@ namespace hrad {
 
 Scene load_scene(const std::string& spec);
 
+/// Throws the InputError load_scene(spec) would throw for what can be told without
+/// reading the scene: an unknown builtin scene or parameter, an unknown format, a file
+/// that does not exist. For checking a list of scenes before any work starts.
+void check_scene_spec(const std::string& spec);
+
 }  // namespace hrad

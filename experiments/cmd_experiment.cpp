@@ -11,6 +11,7 @@
 //   5. the config's plot scripts run on the folder (unless --no-plot).
 // Exit status: 0 on success; 1 for bad input or a failed run (message on stderr
 // starting with "hrad: "); 2 when the runs succeeded but a plot failed.
+#include "core/scene_loader.h"
 #include "experiments/commands.h"
 #include "experiments/harness/experiment_config.h"
 #include "experiments/harness/experiment_runner.h"
@@ -38,14 +39,36 @@ struct ExperimentArgs {
   bool quick = false, no_plot = false, quiet = false, dry_run = false;
 };
 
-int run_command(const ExperimentArgs& a, const CommandContext& ctx) {
+// Whether `hrad experiment CONFIG --resume DIR` would carry on: DIR holds the results
+// of this configuration (as --quick and --set resolved it) and at least one finished run.
+bool resumable(const fs::path& dir, const ExperimentConfig& config) {
+  try {
+    const auto m = read_manifest(dir);
+    return m.value("runs_done", 0) > 0 &&
+           m.value("/experiment/config"_json_pointer, nlohmann::ordered_json()) ==
+               experiment_config_to_json(config);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+int run_command(ExperimentArgs a, const CommandContext& ctx) {
   ExperimentConfig config;
   std::vector<SweepPoint> points;
   try {
+    // --resume DIR without --quick or --set resumes as DIR was made: with the --quick
+    // and --set its manifest records.
+    if (!a.resume.empty() && !a.quick && a.sets.empty() && is_result_folder(a.resume)) {
+      const auto m = read_manifest(a.resume);
+      a.quick = m.value("/experiment/quick"_json_pointer, false);
+      a.sets = m.value("/experiment/sets"_json_pointer, std::vector<std::string>{});
+    }
     config = load_experiment_config(a.config);
     if (a.quick) config = apply_quick(config);
     for (const std::string& s : a.sets) apply_experiment_set(config, s);
     points = expand_sweep(config);
+    // Before any folder is made: every scene must be one hrad can load.
+    for (const std::string& s : config.scenes) check_scene_spec(s);
   } catch (const std::exception& e) {
     print_error(e.what());
     return 1;
@@ -102,7 +125,7 @@ int run_command(const ExperimentArgs& a, const CommandContext& ctx) {
     for (const std::string& w : s.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
   } catch (const std::exception& e) {
     print_error(e.what());
-    if (is_result_folder(dir))
+    if (resumable(dir, config))
       fmt::print(stderr, "hrad: finished runs are kept; resume with: hrad experiment {} --resume {}\n",
                  a.config, dir.string());
     return 1;

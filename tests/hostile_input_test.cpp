@@ -92,4 +92,34 @@ TEST_F(HostileInput, StaleResultFilesAreNeitherKeptNorCompared) {
   EXPECT_TRUE(fs::exists(dir_ / "d" / "notes.txt"));
 }
 
+// An experiment made with --quick and --set could not be resumed with --resume alone,
+// and its own suggested resume command failed the same way; a config naming a scene
+// that does not exist made a folder and said "finished runs are kept".
+TEST_F(HostileInput, ExperimentsResumeAsMadeAndCheckScenesFirst) {
+  write("t.json", R"({"name": "t", "scenes": ["builtin:cornell"],
+    "settings": {"iterations": 1, "eps": 0.01}, "sweep": {"threads": [1, 2]},
+    "quick": {"settings": {"min_area": 0.01}}})");
+  ASSERT_EQ(hrad("experiment t.json --quick --set eps=0.02 --out x --no-plot --quiet").status, 0);
+  Result r = hrad("experiment t.json --resume x --no-plot");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "0 run now, 2 already done")) << r.out;
+  // Another configuration into that folder: refused, with no resume command that
+  // would fail the same way.
+  r = hrad("experiment t.json --resume x --set eps=0.05 --no-plot");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "different configuration")) << r.err;
+  EXPECT_FALSE(contains(r.err, "resume with")) << r.err;
+
+  write("nope.json", R"({"name": "n", "scenes": ["builtin:cornell", "builtin:nope"]})");
+  r = hrad("experiment nope.json --out y");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "unknown builtin scene 'nope'")) << r.err;
+  EXPECT_FALSE(contains(r.err, "finished runs")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "y"));
+  r = hrad("experiment nope.json --set scenes=missing.obj --out y");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "missing.obj: the file does not exist")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "y"));
+}
+
 }  // namespace
