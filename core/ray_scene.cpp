@@ -322,6 +322,11 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
     throw std::invalid_argument("RayScene::intersect: direction must be finite and non-zero");
   const double tnear = kEndpointEpsilon / len;
   if (m.polygons == 0 || !(tmax >= tnear)) return std::nullopt;
+  // Embree takes a unit direction here (its rays must have |dir| below 1.8e18: a
+  // direction of length 1 in a scene 1e-20 across is 6e19 in the normalised frame,
+  // and its assertion ended the process), with distances along it in the normalised
+  // frame; t along `dir` is that distance / len.
+  const Vec3 u = d / len;
 
   IgnoreContext ctx;
   m.init_context(ctx, ignore, kNoPolygon);
@@ -329,11 +334,11 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
   rh.ray.org_x = static_cast<float>(o.x());
   rh.ray.org_y = static_cast<float>(o.y());
   rh.ray.org_z = static_cast<float>(o.z());
-  rh.ray.dir_x = static_cast<float>(d.x());
-  rh.ray.dir_y = static_cast<float>(d.y());
-  rh.ray.dir_z = static_cast<float>(d.z());
-  rh.ray.tnear = static_cast<float>(tnear);
-  rh.ray.tfar = to_float_distance(tmax);
+  rh.ray.dir_x = static_cast<float>(u.x());
+  rh.ray.dir_y = static_cast<float>(u.y());
+  rh.ray.dir_z = static_cast<float>(u.z());
+  rh.ray.tnear = static_cast<float>(kEndpointEpsilon);
+  rh.ray.tfar = to_float_distance(tmax * len);
   rh.ray.time = 0;
   rh.ray.mask = ~0u;
   rh.ray.id = 0;
@@ -353,7 +358,7 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
   }
   hit.u = rh.hit.u;
   hit.v = rh.hit.v;
-  hit.t = rh.ray.tfar;
+  hit.t = static_cast<double>(rh.ray.tfar) / len;
   // Recompute t in double precision from the polygon's plane, unless the ray grazes
   // the plane (|cos| < 1e-3), where the plane intersection is ill-conditioned.
   const Vec3& n = m.normal[hit.prim];

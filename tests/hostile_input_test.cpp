@@ -49,12 +49,22 @@ TEST_F(HostileInput, DeeplyNestedOrHugeJsonIsRejectedWithAShortMessage) {
   EXPECT_EQ(entries(), 4);  // the four files written here, no output folder
 }
 
+// A closed unit box, its light on one wall; `scale` multiplies every coordinate.
+std::string box_obj(const std::string& scale, const std::string& mtl = "box.mtl") {
+  std::string s = "mtllib " + mtl + "\n";
+  for (const char* v : {"0 0 0", "1 0 0", "1 1 0", "0 1 0", "0 0 1", "1 0 1", "1 1 1", "0 1 1"}) {
+    std::string line = "v";
+    for (const char c : std::string(v))
+      if (c != ' ') line += std::string(" ") + c + scale;
+    s += line + "\n";
+  }
+  return s + "usemtl wall\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\n"
+             "usemtl light\nf 1 4 8 5\n";
+}
+
 // Ke 1e40 solved with exit 0 and wrote inf into solution.ply and a red image.
 TEST_F(HostileInput, EmissionBeyondWhatResultsCanHoldIsRejected) {
-  write("box.obj",
-        "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\n"
-        "v 0 1 1\nusemtl wall\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\n"
-        "usemtl light\nf 1 4 8 5\n");
+  write("box.obj", box_obj(""));
   write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1e40 5 5\n");
   const Result r = hrad("solve box.obj --out run");
   EXPECT_EQ(r.status, 1);
@@ -120,6 +130,26 @@ TEST_F(HostileInput, ExperimentsResumeAsMadeAndCheckScenesFirst) {
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "missing.obj: the file does not exist")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "y"));
+}
+
+// A closed box scaled by 1e-20 aborted on Embree's ray.valid() assertion (exit 134),
+// and `hrad reference` left an empty folder. Every tolerance is relative to the scene
+// size, down to 1e-30 and up to 1e20.
+TEST_F(HostileInput, TinyAndHugeScenesSolve) {
+  write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
+  for (const char* scale : {"e-30", "e-20", "e20"}) {
+    SCOPED_TRACE(scale);
+    write("tiny.obj", box_obj(scale));
+    Result r = hrad("solve tiny.obj --out s --quiet");
+    EXPECT_EQ(r.status, 0) << r.err;
+    for (const char* f : {"stats.json", "solution.ply", "render.png"})
+      EXPECT_TRUE(fs::exists(dir_ / "s" / f)) << f;
+    r = hrad("reference tiny.obj --random-probes 4 --rel-error 0.1 --out ref --quiet");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir_ / "ref" / "probes.csv"));
+    fs::remove_all(dir_ / "s");
+    fs::remove_all(dir_ / "ref");
+  }
 }
 
 }  // namespace
