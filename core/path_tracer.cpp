@@ -2,6 +2,7 @@
 #include "core/path_tracer.h"
 
 #include "core/clock.h"
+#include "core/interrupt.h"
 
 #include <fmt/format.h>
 
@@ -228,10 +229,12 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes,
     const auto nw = static_cast<std::ptrdiff_t>(work.size());
 #pragma omp parallel for num_threads(o.threads) schedule(dynamic, 1)
     for (std::ptrdiff_t w = 0; w < nw; ++w) {
+      if (interrupted()) continue;  // the rest of the round is skipped, then abandoned
       const Work& k = work[static_cast<std::size_t>(w)];
       means[k.probe][k.batch] =
           batch_mean(probes[k.probe], o.seed, k.probe, k.batch, o.batch_size, o.rr_depth);
     }
+    throw_if_interrupted();
 
     // Statistics, in batch order (deterministic).
     Rgb floor_sum = Rgb::Zero();

@@ -1,5 +1,6 @@
 #include "core/propagation.h"
 
+#include "core/interrupt.h"
 #include "core/open_fraction.h"
 
 #include <omp.h>
@@ -469,7 +470,7 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
   Sweeper sweeper(elements, threads, mode, grey);  // links do not change here
   double previous = 0;
   int growing = 0;
-  while (r.sweeps < max_sweeps) {
+  while (r.sweeps < max_sweeps && !interrupted()) {
     const double c = sweeper.sweep();
     ++r.sweeps;
     r.last_change = c;

@@ -2,6 +2,7 @@
 
 #include "core/clock.h"
 #include "core/hierarchy.h"
+#include "core/interrupt.h"
 #include "core/timed_lock.h"
 #include "core/transport.h"
 
@@ -281,7 +282,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
   // tells the refiners to stop.
   std::thread solver([&] {
     if (plan_) (void)bind_thread(topology_, plan_->solver, nullptr);
-    for (std::int64_t v = pending.v.load(std::memory_order_acquire); v != 0;
+    for (std::int64_t v = pending.v.load(std::memory_order_acquire); v != 0 && !interrupted();
          v = pending.v.load(std::memory_order_acquire))
       pending.v.wait(v, std::memory_order_acquire);
     done.v.store(true, std::memory_order_release);
@@ -316,6 +317,14 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     // rather than take what another has just loaded.
     const auto loading = [&] { return load_cursor.v.load(std::memory_order_relaxed) < all.size(); };
     for (;;) {
+      if (interrupted()) {
+        // Stop here, tasks left where they are (core/interrupt.h): the stage is
+        // abandoned. The change of `pending` wakes the solver thread, which then sees
+        // the interrupt too.
+        pending.v.store(-1, std::memory_order_release);
+        pending.v.notify_one();
+        break;
+      }
       const std::size_t n = ready > 0   ? ready
                             : loading() ? scheduler.take_own(w.id, block)
                                         : scheduler.take(w.id, block);

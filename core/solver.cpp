@@ -4,6 +4,7 @@
 #include "core/effects.h"
 #include "core/form_factor.h"
 #include "core/hierarchy.h"
+#include "core/interrupt.h"
 #include "core/numa_report.h"
 #include "schedulers/pool_order.h"
 #include "core/lock_pool.h"
@@ -175,6 +176,7 @@ RunStats Solver::run() {
     auto t0 = Clock::now();
     RefineCounters rc = refiner.run(*scheduler, tasks, o.threads, o.block_size,
                                     o.trace.empty() ? 0 : it);
+    throw_if_interrupted();  // the stage was abandoned (core/interrupt.h)
     if (!o.trace.empty()) trace.insert(trace.end(), rc.trace.begin(), rc.trace.end());
     // The stage includes building its tasks from the previous iteration's links.
     is.refine_wall_s = seconds_since(t0) + reload_s;
@@ -235,6 +237,7 @@ RunStats Solver::run() {
         propagate(elements, it < o.iterations ? std::max(o.gather_tolerance, kIntermediateTolerance)
                                               : o.gather_tolerance,
                   max_sweeps, o.threads, m.receiver_mode, grey);
+    throw_if_interrupted();
     is.propagate_wall_s = seconds_since(t0);
     is.gather_sweeps = pr.sweeps;
     is.max_change = pr.last_change;

@@ -11,6 +11,7 @@
 //   5. the config's plot scripts run on the folder (unless --no-plot).
 // Exit status: 0 on success; 1 for bad input or a failed run (message on stderr
 // starting with "hrad: "); 2 when the runs succeeded but a plot failed.
+#include "core/interrupt.h"
 #include "core/scene_loader.h"
 #include "experiments/commands.h"
 #include "experiments/harness/experiment_config.h"
@@ -123,6 +124,15 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
                  "{}: runs.csv, iterations.csv, manifest.json.\n",
                  config.name, s.runs, s.ran, s.skipped, s.seconds, dir.string());
     for (const std::string& w : s.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
+  } catch (const Interrupted& e) {
+    // The manifest says "interrupted"; the finished runs' rows are complete.
+    print_error(fmt::format("{}: the experiment stopped; {}", e.what(),
+                            resumable(dir, config)
+                                ? fmt::format("finished runs are kept; resume with: hrad experiment "
+                                              "{} --resume {}",
+                                              a.config, dir.string())
+                                : std::string("no run had finished")));
+    return e.exit_status();
   } catch (const std::exception& e) {
     print_error(e.what());
     if (resumable(dir, config))

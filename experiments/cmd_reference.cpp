@@ -8,6 +8,7 @@
 // Both atomically. Exit 1 on bad input; probes that miss the target are listed on stderr
 // and in reference.json, but the run still succeeds (status 0).
 #include "core/atomic_file.h"
+#include "core/interrupt.h"
 #include "core/path_tracer.h"
 #include "core/probes.h"
 #include "core/progress.h"
@@ -79,6 +80,12 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
   const fs::path out(a.out);
   bool created = false;
   if (!make_output_folder(out, created)) return 1;
+  // An earlier reference's results in the folder go first (as for solve).
+  for (const char* name : {"reference.json", "probes.csv", "probes.txt"}) {
+    std::error_code ec;
+    const bool input = !a.probes.empty() && fs::equivalent(a.probes, out / name, ec);
+    if (!input) fs::remove(out / name, ec);
+  }
 
   try {
     ProgressReporter progress(a.quiet);
@@ -145,9 +152,15 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
                  r.rounds == 1 ? "" : "s", probes.size() - unconverged.size(), a.options.rel_error,
                  out.string());
   } catch (const std::exception& e) {
-    print_error(e.what());
     std::error_code ec;
-    if (created && fs::is_empty(out, ec)) fs::remove(out, ec);
+    const bool remove = created && fs::is_empty(out, ec);
+    if (remove) fs::remove(out, ec);
+    if (const auto* stop = dynamic_cast<const Interrupted*>(&e)) {
+      print_error(fmt::format("{}: the reference stopped before writing any result{}", e.what(),
+                              remove ? fmt::format(" (removed {})", out.string()) : ""));
+      return stop->exit_status();
+    }
+    print_error(e.what());
     return 1;
   }
   return 0;

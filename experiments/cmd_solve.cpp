@@ -13,6 +13,7 @@
 //      one failed, the error. A run that fails before writing anything removes the
 //      folder if it created it.
 #include "core/input_error.h"
+#include "core/interrupt.h"
 #include "core/json_input.h"
 #include "core/options_io.h"
 #include "core/ply_writer.h"
@@ -221,6 +222,15 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     if (failure) j["error"] = failure->message;
     write_json_atomically(out / "stats.json", j);
     written.insert(written.begin(), "stats.json");
+  } catch (const Interrupted& e) {
+    // Stopped at a safe point before anything was written (the results of an earlier
+    // run into the folder were removed at the start).
+    progress->finish();
+    const bool remove = created && is_empty_dir(out);
+    if (remove) fs::remove(out);
+    print_error(fmt::format("{}: the solve stopped before writing any result{}", e.what(),
+                            remove ? fmt::format(" (removed {})", out.string()) : ""));
+    return e.exit_status();
   } catch (const std::exception& e) {
     if (!failure) failure = Failure{e.what()};
   }

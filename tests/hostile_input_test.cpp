@@ -3,7 +3,9 @@
 #include "tests/cli_fixture.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <string>
 
 namespace {
@@ -12,7 +14,24 @@ using hrad::test::contains;
 using hrad::test::Result;
 namespace fs = std::filesystem;
 
-class HostileInput : public hrad::test::Cli {};
+class HostileInput : public hrad::test::Cli {
+ protected:
+  /// Runs `hrad ARGS` in the background, sends it SIGNAL (INT or TERM) after
+  /// `after` seconds and waits for it.
+  Result interrupted(const std::string& args, const char* signal, double after) const {
+    const std::string cmd = "cd '" + dir_.string() + "' && ( '" HRAD_BINARY "' " + args +
+                            " > .stdout 2> .stderr < /dev/null & p=$!; sleep " +
+                            std::to_string(after) + "; kill -" + signal + " $p; wait $p )";
+    const int rc = std::system(cmd.c_str());
+    Result r;
+    r.status = (rc != -1 && WIFEXITED(rc)) ? WEXITSTATUS(rc) : -1;
+    r.out = hrad::test::read_text(dir_ / ".stdout");
+    r.err = hrad::test::read_text(dir_ / ".stderr");
+    fs::remove(dir_ / ".stdout");
+    fs::remove(dir_ / ".stderr");
+    return r;
+  }
+};
 
 std::string nested(int levels) {
   return std::string(static_cast<std::size_t>(levels), '[') +
@@ -150,6 +169,34 @@ TEST_F(HostileInput, TinyAndHugeScenesSolve) {
     fs::remove_all(dir_ / "s");
     fs::remove_all(dir_ / "ref");
   }
+}
+
+// SIGINT during a solve exited 130 with no message and could leave solution.ply
+// without stats.json; an interrupted experiment's manifest stayed "running".
+TEST_F(HostileInput, InterruptsStopAtASafePointAndSaySo) {
+  Result r = interrupted("solve builtin:lab --out run --quiet", "INT", 0.5);
+  EXPECT_EQ(r.status, 130) << r.err;
+  EXPECT_TRUE(contains(r.err, "interrupted by SIGINT: the solve stopped before writing any result"))
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "run"));  // it made the folder, and removed it empty
+
+  write("e.json", R"({"name": "e", "scenes": ["builtin:cornell", "builtin:lab"],
+    "settings": {"iterations": 1}})");
+  r = interrupted("experiment e.json --out x --no-plot", "TERM", 1.0);
+  EXPECT_EQ(r.status, 143) << r.err;
+  EXPECT_TRUE(contains(r.err, "interrupted by SIGTERM: the experiment stopped")) << r.err;
+  const auto manifest = nlohmann::json::parse(hrad::test::read_text(dir_ / "x" / "manifest.json"));
+  EXPECT_EQ(manifest["status"], "interrupted");
+  const int done = manifest["runs_done"].get<int>();
+  EXPECT_LT(done, 2);
+  const std::string rows = hrad::test::read_text(dir_ / "x" / "runs.csv");
+  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 1 + done);  // the header and finished runs
+  EXPECT_EQ(contains(r.err, "resume with"), done > 0) << r.err;
+
+  r = interrupted("reference builtin:office --random-probes 64 --out ref --quiet", "INT", 0.5);
+  EXPECT_EQ(r.status, 130) << r.err;
+  EXPECT_TRUE(contains(r.err, "the reference stopped before writing any result")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "ref"));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // End-to-end tests of the hierarchical solver on scenes with known answers.
 #include "core/builtin_scenes.h"
+#include "core/interrupt.h"
 #include "core/probes.h"
 #include "core/solver.h"
 #include "tests/read_text.h"
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -457,4 +459,26 @@ TEST(SolverAccuracy, OfficeAtDefaultsIsNotDark) {
 }
 
 }  // namespace
+// An interrupt (core/interrupt.h) unwinds a run at its first safe point, with two
+// refiners as with one, and leaves nothing that stops the next run.
+TEST(SolverInterrupt, StopsAtTheFirstSafePointAndTheNextRunIsWhole) {
+  const Scene scene = make_builtin("builtin:cornell");
+  for (int threads : {1, 2}) {
+    SolverOptions o;
+    o.threads = threads;
+    o.iterations = 1;
+    simulate_interrupt(SIGINT);
+    Solver stopped(scene, o);
+    try {
+      (void)stopped.run();
+      ADD_FAILURE() << "not interrupted";
+    } catch (const Interrupted& e) {
+      EXPECT_EQ(e.exit_status(), 130);
+    }
+    simulate_interrupt(0);
+    Solver whole(scene, o);
+    EXPECT_GT(whole.run().totals.links, 10000u);
+  }
+}
+
 }  // namespace hrad

@@ -1,6 +1,7 @@
 #include "experiments/harness/experiment_runner.h"
 
 #include "core/clock.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/scene_loader.h"
 #include "core/solver.h"
@@ -106,6 +107,7 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
       for (int rep = 0; rep < config.repetitions; ++rep) {
         const RunId id{p.index, rep};
         if (files.done().count(id)) continue;
+        throw_if_interrupted();
         if (!scene || scene_spec != p.scene) {
           scene.reset();  // free the previous scene before loading the next
           reference.reset();
@@ -158,7 +160,10 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
       }
     }
   } catch (const std::exception& e) {
-    manifest["status"] = "failed";
+    // An interrupt (core/interrupt.h) lands here between runs or from inside a run's
+    // solve; the run in progress wrote no row.
+    const bool stopped = dynamic_cast<const Interrupted*>(&e) != nullptr;
+    manifest["status"] = stopped ? "interrupted" : "failed";
     manifest["error"] = e.what();
     manifest["runs_done"] = files.done().size();
     try {
