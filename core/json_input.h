@@ -36,14 +36,16 @@ std::string brief_json(const Json& value) {
   return brief_text(value.dump());
 }
 
-/// Parses a whole document: depth checked first; a syntax error becomes
-/// std::invalid_argument "SOURCE: not valid JSON: ..." (the parser's message cut).
+/// Parses a whole document: depth checked first; a syntax error or a number beyond a
+/// double becomes std::invalid_argument "SOURCE: not valid JSON: ..." (the parser's
+/// message cut).
 template <class Json>
 Json parse_json_document(const std::string& text, const std::string& source, bool comments) {
   check_json_depth(text, source, comments);
   try {
     return Json::parse(text, nullptr, true, comments);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for a number beyond a double (1e99999).
     throw std::invalid_argument(source + ": not valid JSON: " + brief_text(e.what()));
   }
 }

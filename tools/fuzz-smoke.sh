@@ -7,13 +7,13 @@
 #
 #   tools/fuzz-smoke.sh [SECONDS]
 # Environment: HRAD_FUZZ_BUILD (build dir, default build-fuzz), CC/CXX (default
-# clang-14/clang++-14), HRAD_FUZZ_TARGETS (default "obj mgf").
+# clang-14/clang++-14), HRAD_FUZZ_TARGETS (default "obj mgf config probes").
 set -euo pipefail
 
 seconds=${1:-30}
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${HRAD_FUZZ_BUILD:-$root/build-fuzz}
-targets=${HRAD_FUZZ_TARGETS:-obj mgf}
+targets=${HRAD_FUZZ_TARGETS:-obj mgf config probes}
 
 CC=${CC:-clang-14} CXX=${CXX:-clang++-14} cmake -S "$root" -B "$build" -G Ninja \
   -DHRAD_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
