@@ -1,12 +1,13 @@
 // Reading JSON documents that people write (configurations, cost files, manifests):
-// a bound on nesting, and short error messages.
+// a bound on nesting, no repeated keys, and short error messages.
 //
 // nlohmann::json parses any depth, but printing a value (dump) recurses once per
 // level: a configuration of 100,000 nested brackets crashed hrad where it echoed the
 // offending value, and at 50,000 levels the message was 100 KB long. So a document is
-// checked for depth before it is parsed (kMaxJsonDepth levels, far more than any
-// hrad file needs), and values are echoed in errors through brief_json, which cuts
-// them to kMaxEchoedChars.
+// checked for depth (kMaxJsonDepth levels, far more than any hrad file needs) and for
+// keys given twice in one object (the parser keeps the last silently) before it is
+// parsed, and values are echoed in errors through brief_json, which cuts them to
+// kMaxEchoedChars.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -24,7 +25,9 @@ inline constexpr std::size_t kMaxEchoedChars = 120;
 
 /// Throws std::invalid_argument "SOURCE:LINE: JSON nested deeper than 64 levels"
 /// when `text` nests arrays and objects deeper than kMaxJsonDepth (brackets inside
-/// strings and, with `comments`, inside // and /* */ comments do not count).
+/// strings and, with `comments`, inside // and /* */ comments do not count), and
+/// "SOURCE:LINE: key 'K' appears twice in one object" for a repeated key (the parser
+/// would keep the last one silently). Syntax is the parser's to check.
 void check_json_depth(std::string_view text, const std::string& source, bool comments);
 
 /// `text` cut to kMaxEchoedChars, with the number of characters left out.

@@ -203,7 +203,7 @@ void register_compare(CLI::App& app, CommandContext& ctx) {
                   "Absolute irradiance floor of the probes' relative error [default: 1e-3 x "
                   "the mean reference irradiance]")
       ->type_name("X")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   sub->add_option("--samples", args->samples,
                   "Surface metric: points drawn over the reference mesh [default: 200000]")
       ->type_name("N")

@@ -127,7 +127,10 @@ void print_summary(const SolveArgs& a, const Scene& scene, const SolverOptions& 
                    const RunStats& st, const fs::path& out, const std::vector<std::string>& files) {
   const RunTotals& t = st.totals;
   std::string listed;
-  for (const std::string& f : files) listed += (listed.empty() ? "" : ", ") + f;
+  for (const std::string& f : files)
+    if (f != a.image) listed += (listed.empty() ? "" : ", ") + f;
+  // --image FILE is relative to where hrad runs, not to the output folder.
+  if (!a.image.empty()) listed += "; image " + a.image;
   fmt::print(
       "Solved {} ({} polygons, {} emitting) with {} iteration{} of scheduler '{}', oracle '{}' "
       "on {} thread{}: {} links, {} elements, {} rays cast ({} visibility queries answered "
@@ -148,8 +151,19 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   std::unique_ptr<Solver> solver;
   try {
     options = resolve_options(a);
+    if (!a.image.empty()) {
+      std::string ext = fs::path(a.image).extension().string();
+      for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (ext != ".png")
+        throw std::invalid_argument(fmt::format(
+            "--image {}: the image is written as PNG, so its name must end in .png", a.image));
+    }
     scene = load_scene(a.scene);
-    if (!a.probes.empty()) probes = read_probes(a.probes);
+    if (!a.probes.empty()) {
+      probes = read_probes(a.probes);
+      if (probes.empty())
+        throw std::invalid_argument(fmt::format("{}: holds no probe (only comments or blank lines)", a.probes));
+    }
     for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
     progress = std::make_unique<ProgressReporter>(a.quiet);
     solver = std::make_unique<Solver>(scene, options, progress->callback());

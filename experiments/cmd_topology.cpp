@@ -45,7 +45,7 @@ void register_topology(CLI::App& app, CommandContext& ctx) {
                   "also print where `hrad solve --pin POLICY` would bind each refiner")
       ->check(CLI::IsMember({"none", "compact", "scatter", "node-round-robin"}));
   sub->add_option("--threads", args->threads, "refiners for --pin (default: one per PU)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   sub->callback([&ctx, args] {
     try {
       const TopologyInfo t = discover_topology();

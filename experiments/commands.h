@@ -37,6 +37,10 @@ std::string git_revision();
 /// returns false.
 bool make_output_folder(const std::filesystem::path& out, bool& created);
 
+/// Check for an option that takes a number > 0 (CLI11's PositiveNumber printed its
+/// upper bound, a 309-digit number, in its message).
+CLI::Validator positive_number();
+
 /// Prints "hrad: MESSAGE" to stderr, MESSAGE cut to kMaxErrorChars (a message that
 /// echoes a huge input value stays readable).
 void print_error(std::string_view message);

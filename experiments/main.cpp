@@ -5,7 +5,10 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+#include <cmath>
 #include <stdexcept>
+#include <system_error>
 
 #ifndef HRAD_GIT_REVISION
 #define HRAD_GIT_REVISION "unknown"
@@ -16,6 +19,19 @@ namespace hrad::cli {
 std::string git_revision() { return HRAD_GIT_REVISION; }
 
 std::string version_string() { return fmt::format("hrad {} (git {})", kVersion, git_revision()); }
+
+CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0;
+        const char* end = text.data() + text.size();
+        const auto r = std::from_chars(text.data(), end, v);
+        if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v))
+          return "'" + text + "' is not a number";
+        return v > 0 ? std::string() : "must be > 0, not " + text;
+      },
+      "> 0");
+}
 
 void print_error(std::string_view message) {
   if (message.size() <= kMaxErrorChars) {
@@ -60,6 +76,20 @@ int main(int argc, char** argv) {
   register_compare(app, ctx);
   app.footer("Run 'hrad COMMAND --help' for the options of a command.");
 
+  // A first word that is neither an option nor a command: say so (CLI11 would say
+  // "A subcommand is required").
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string known;
+    bool found = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      found = found || sub->get_name() == argv[1];
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!found) {
+      print_error(fmt::format("unknown command '{}' (commands: {}; see hrad --help)", argv[1], known));
+      return 1;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

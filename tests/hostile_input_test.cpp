@@ -205,4 +205,39 @@ TEST_F(HostileInput, InterruptsStopAtASafePointAndSaySo) {
   EXPECT_FALSE(fs::exists(dir_ / "ref"));
 }
 
+// Issue 15's rough edges, each as it was reported.
+TEST_F(HostileInput, RoughEdgesAreSmoothed) {
+  Result r = hrad("frob");  // was "A subcommand is required"
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "unknown command 'frob'")) << r.err;
+
+  write("p.txt", "1 1 1 0 1 0\n");
+  write("r.txt", "1 1 1 0 1 0\n");
+  r = hrad("compare p.txt r.txt --floor 0");  // printed a 309-digit upper bound
+  EXPECT_NE(r.status, 0);
+  EXPECT_TRUE(contains(r.err, "--floor: must be > 0, not 0")) << r.err;
+  EXPECT_LT(r.err.size(), 200u);
+
+  r = hrad("solve builtin:cornell --image x.jpg --out run");  // wrote PNG data as x.jpg
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "must end in .png")) << r.err;
+
+  write("comments.txt", "# nothing but a comment\n\n");
+  r = hrad("solve builtin:cornell --probes comments.txt --out run");  // was accepted
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "comments.txt: holds no probe")) << r.err;
+
+  write("dup.json", "{\n  \"threads\": 2,\n  \"threads\": 1\n}\n");  // the last won silently
+  r = hrad("solve builtin:cornell --config dup.json --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "dup.json:3: key 'threads' appears twice in one object")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "run"));
+
+  // A relative --image is where hrad runs, not in the output folder.
+  r = hrad("solve builtin:cornell --iterations 1 --image pics/y.png --out run");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "Results in run: stats.json, solution.ply; image pics/y.png")) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "pics" / "y.png"));
+}
+
 }  // namespace
