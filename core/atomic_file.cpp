@@ -3,18 +3,33 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 
 namespace hrad {
+
+namespace {
+
+/// What the C library said about the last failed call, or a generic reason.
+std::string reason() {
+  return errno != 0 ? std::strerror(errno) : std::string("the stream failed");
+}
+
+}  // namespace
 
 void write_file_atomically(const std::filesystem::path& path,
                            const std::function<void(std::ostream&)>& write) {
   std::filesystem::path tmp = path;
   tmp += fmt::format(".tmp-{}", static_cast<long>(::getpid()));
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(fmt::format("cannot write {}", tmp.string()));
+    // Errors name the file the user asked for, and say why (the temporary name is
+    // an implementation detail).
+    if (!out)
+      throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), reason()));
     try {
       write(out);
     } catch (...) {
@@ -22,19 +37,20 @@ void write_file_atomically(const std::filesystem::path& path,
       std::filesystem::remove(tmp);
       throw;
     }
+    errno = 0;
     out.flush();
     if (!out) {
+      const std::string why = reason();
       out.close();
       std::filesystem::remove(tmp);
-      throw std::runtime_error(fmt::format("error while writing {}", tmp.string()));
+      throw std::runtime_error(fmt::format("error while writing {}: {}", path.string(), why));
     }
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::filesystem::remove(tmp);
-    throw std::runtime_error(fmt::format("cannot rename {} to {}: {}", tmp.string(),
-                                         path.string(), ec.message()));
+    throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), ec.message()));
   }
 }
 

@@ -21,6 +21,10 @@ void add_placement_warnings(const PinPlan& plan, const TopologyInfo& topology,
     add_once(warnings, fmt::format("pin {}: {} refiners but {} PUs: the plan wraps around and "
                                    "some refiners share a PU",
                                    options.pin, options.threads, topology.pus));
+  else if (!topology.synthetic && topology.pus > 0 && options.threads > topology.pus)
+    add_once(warnings, fmt::format("threads = {} on a machine with {} PUs: refiners share PUs, "
+                                   "so times and speed-ups measure the sharing",
+                                   options.threads, topology.pus));
   if (topology.synthetic && plan.policy != PinPolicy::None)
     add_once(warnings, fmt::format("pin {}: the topology is not this machine's ({}): bindings "
                                    "are planned and reported, not applied",

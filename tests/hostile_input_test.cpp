@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <string>
+#include <thread>
 
 namespace {
 
@@ -232,6 +233,25 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "dup.json:3: key 'threads' appears twice in one object")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "run"));
+
+  // More threads than processing units: the run is fine, its timings are not.
+  const unsigned pus = std::thread::hardware_concurrency();
+  r = hrad("solve builtin:cornell --iterations 1 --out over --quiet --threads " +
+           std::to_string(pus + 1));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "refiners share PUs")) << r.err;
+
+  // Write errors named a .tmp-PID file and gave no reason.
+  const std::string longname(300, 'a');
+  r = hrad("solve builtin:cornell --iterations 1 --image " + longname + ".png --out run2");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "cannot write " + longname + ".png: File name too long")) << r.err;
+  EXPECT_FALSE(contains(r.err, ".tmp-")) << r.err;
+  fs::create_directory(dir_ / "folder.png");
+  r = hrad("solve builtin:cornell --iterations 1 --image folder.png --out run3");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "cannot write folder.png: Is a directory")) << r.err;
+  EXPECT_FALSE(contains(r.err, ".tmp-")) << r.err;
 
   // A relative --image is where hrad runs, not in the output folder.
   r = hrad("solve builtin:cornell --iterations 1 --image pics/y.png --out run");
