@@ -16,13 +16,15 @@
 //     tasks (the largest pending subtrees), one CAS each, up to min(block_size, half the
 //     victim's tasks rounded up). Every stolen task counts in SchedulerCounters::steals.
 //
-// Who is worker w. The thread that calls take(w) acts as worker w: it records its thread
-// id in `owner` on entry and clears it when take() returns nothing (going idle).
-// submit(w, tasks) pushes onto w's deque when the calling thread is w's recorded owner,
-// or when no thread is (then the caller becomes w, as a take would make it: this is how
-// a refiner that found nothing loads a chunk of initial tasks into its own deque); from
-// any other thread (one submitting as w while another acts as w) the tasks go to the
-// *inbox*, a shared vector under a mutex that any worker drains in step 2.
+// Who is worker w. The thread that calls take(w) acts as worker w: it claims `owner`
+// (a CAS from no thread to its id) on entry and clears it when take() returns nothing
+// (going idle). submit(w, tasks) pushes onto w's deque when the calling thread is w's
+// recorded owner, or when no thread is (then the caller claims w for the push and gives
+// it up after: this is how a refiner that found nothing loads a chunk of initial tasks
+// into its own deque, and its next take claims w again); from any other thread (one
+// submitting as w while another acts as w) the tasks go to the *inbox*, a shared vector
+// under a mutex that any worker drains in step 2. A take that finds w claimed by another
+// thread's push skips w's deque that time.
 // take_own(w) is steps 1 and 2 without stealing.
 //
 // Precondition (what makes deque ownership sound): at most one thread acts as worker w at
@@ -89,16 +91,22 @@ class StealingScheduler final : public IScheduler {
     if (tasks.empty()) return;
     Worker& w = at(worker);
     const std::thread::id self = std::this_thread::get_id();
-    std::thread::id owner = w.owner.load(std::memory_order_relaxed);
-    // No thread acts as w (its last take was empty): the caller becomes w, as a take
-    // would make it (the precondition: one thread acts as w at a time).
+    std::thread::id owner = w.owner.load(std::memory_order_acquire);
+    // No thread acts as w (its last take was empty): the caller acts as w for this
+    // push, claiming it with a CAS so that a take of the team's thread w cannot pop
+    // while it pushes, and gives w up after it (a refiner that loaded its own chunk
+    // claims w again with its next take). With a plain store here, a thread outside the
+    // team and the team's thread w could both act on w's deque at once, and a task was
+    // lost (SchedForeign's stealing case hung 1 run in 3).
+    bool claimed = false;
     if (owner == std::thread::id()) {
-      w.owner.store(self, std::memory_order_relaxed);
-      owner = self;
+      claimed = w.owner.compare_exchange_strong(owner, self, std::memory_order_acq_rel);
+      if (claimed) owner = self;
     }
     if (owner == self) {
       w.deque.push(tasks);
       w.submits.add(1);
+      if (claimed) w.owner.store(std::thread::id(), std::memory_order_release);
       return;
     }
     std::unique_lock lock(inbox_mutex_, std::try_to_lock);
@@ -133,10 +141,14 @@ class StealingScheduler final : public IScheduler {
   std::size_t take_from(int worker, std::span<Task> out, bool may_steal) {
     Worker& me = at(worker);
     const std::thread::id self = std::this_thread::get_id();
-    if (me.owner.load(std::memory_order_relaxed) != self)
-      me.owner.store(self, std::memory_order_relaxed);
+    // The caller acts as w when it already does or no thread does; while a submit from
+    // another thread holds w for its push, w's own deque is left to it this time.
+    std::thread::id owner = me.owner.load(std::memory_order_acquire);
+    const bool mine = owner == self || (owner == std::thread::id() &&
+                                        me.owner.compare_exchange_strong(
+                                            owner, self, std::memory_order_acq_rel));
     const std::span<Task> block = out.first(std::min(out.size(), block_size_));
-    std::size_t n = me.deque.pop(block);
+    std::size_t n = mine ? me.deque.pop(block) : 0;
     if (n == 0) n = take_from_inbox(block);
     if (n == 0 && may_steal) {
       n = steal(worker, me, block);
@@ -146,7 +158,7 @@ class StealingScheduler final : public IScheduler {
       me.takes.add(1);
     } else {
       me.empty_takes.add(1);
-      me.owner.store(std::thread::id(), std::memory_order_relaxed);  // idle: give up w
+      if (mine) me.owner.store(std::thread::id(), std::memory_order_release);  // idle: give up w
     }
     return n;
   }
