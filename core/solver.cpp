@@ -233,9 +233,17 @@ RunStats Solver::run() {
     is.row_sum_mean = rs.area_mean;
     is.row_sum_within_band = rs.within_band;
     is.row_sum_corrected = rs.corrected;
+    // Every task was a reloaded link accepted again (no link created, none split): the
+    // link set is the previous iteration's, and the next iterations would repeat this
+    // one (up to an oracle decision that the radiosity's last digits could flip). So it
+    // is propagated to gather_tolerance as the last iteration would be, and the run
+    // stops after it (with --iterations 1000 every later iteration re-ran the same links).
+    const bool settled = auto_effects && it < o.iterations && it > 1 &&
+                         rc.tasks == rc.links_kept && rc.links_created == 0;
+    const bool last = it == o.iterations || settled;
     const PropagationResult pr =
-        propagate(elements, it < o.iterations ? std::max(o.gather_tolerance, kIntermediateTolerance)
-                                              : o.gather_tolerance,
+        propagate(elements, last ? o.gather_tolerance
+                                 : std::max(o.gather_tolerance, kIntermediateTolerance),
                   max_sweeps, o.threads, m.receiver_mode, grey);
     throw_if_interrupted();
     is.propagate_wall_s = seconds_since(t0);
@@ -259,13 +267,11 @@ RunStats Solver::run() {
     is.peak_rss_bytes = peak_rss_bytes();
     stats.iterations.push_back(is);
     stats.totals.iterations_run = it;
-    // Every task was a reloaded link accepted again (no link created, none split) and
-    // the radiosity did not change by a bit: the next iteration would repeat this one.
-    if (auto_effects && it < o.iterations && rc.tasks == rc.links_kept && rc.links_created == 0 &&
-        pr.sweeps == 1 && pr.last_change == 0) {
+    if (settled) {
       stats.effects.iterations = {
-          false, fmt::format("stopped after iteration {} of {}: it re-accepted every link, created "
-                             "none and changed no radiosity, so the rest would repeat it",
+          false, fmt::format("stopped after iteration {} of {}: it re-accepted every link and "
+                             "created none, so the rest would repeat its links (its propagation "
+                             "ran to gather_tolerance, as the last one would)",
                              it, o.iterations)};
       break;
     }

@@ -13,6 +13,7 @@
 #include "core/transport.h"
 #include "tests/solver_test_util.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -199,8 +200,12 @@ TEST(EffectsShortcut, ConvexEnclosureCastsNoRays) {
   // its visibility rays ignore the polygons their end points lie on, so none that
   // grazes a wall is reported blocked by it (before, 277 of 222,910 element pairs in
   // this box were, costing up to 6e-5 of some leaves' radiosity).
+  // Two iterations: the second is the last, so the iterations shortcut (a run whose
+  // links settled stops there, with what its last propagation gives) does not make the
+  // runs differ here; it has its own test.
   SolverOptions d = small_options();
   d.gather_tolerance = 1e-10;
+  d.iterations = 2;
   expect_same_radiosity(solve(scene, d, "auto"), solve(scene, d, "all"));
 }
 
@@ -295,6 +300,29 @@ TEST(EffectsShortcut, NoEmitterGivesZeroAtOnce) {
   // The meshes differ (the full run refined), the radiosity is zero in both.
   for (const Solved* r : {&fast, &full})
     for (const auto& l : r->leaves) EXPECT_TRUE((l.radiosity == 0).all());
+}
+
+// --iterations 1000 re-ran the same links 990 times: once an iteration re-accepts every
+// link and creates none, it is propagated to gather_tolerance and the run stops, with
+// the answer of a run asked for exactly that many iterations.
+TEST(EffectsShortcut, IterationsStopOnceTheLinksSettle) {
+  SolverOptions o = small_options();
+  o.iterations = 1000;
+  const Solved many = solve(make_builtin("builtin:cornell"), o, "auto");
+  const int ran = many.stats.totals.iterations_run;
+  EXPECT_LT(ran, 20);
+  EXPECT_FALSE(many.stats.effects.iterations.on);
+  EXPECT_NE(many.stats.effects.iterations.reason.find(
+                fmt::format("stopped after iteration {} of 1000", ran)),
+            std::string::npos)
+      << many.stats.effects.iterations.reason;
+  EXPECT_EQ(many.stats.iterations.back().links_created, 0u);
+  o.iterations = ran;
+  const Solved exact = solve(make_builtin("builtin:cornell"), o, "auto");
+  EXPECT_TRUE(exact.stats.effects.iterations.on);
+  ASSERT_EQ(many.leaves.size(), exact.leaves.size());
+  for (std::size_t i = 0; i < many.leaves.size(); ++i)
+    EXPECT_EQ((many.leaves[i].radiosity - exact.leaves[i].radiosity).abs().maxCoeff(), 0.0) << i;
 }
 
 TEST(EffectsShortcut, IterationsRunInFullWhenSomethingChanges) {
