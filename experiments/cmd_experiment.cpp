@@ -68,8 +68,12 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     if (a.quick) config = apply_quick(config);
     for (const std::string& s : a.sets) apply_experiment_set(config, s);
     points = expand_sweep(config);
-    // Before any folder is made: every scene must be one hrad can load.
+    // Before any folder is made: every scene must be one hrad can load, and every plot
+    // one there is a script for.
     for (const std::string& s : config.scenes) check_scene_spec(s);
+    if (!a.no_plot)
+      require_plot_scripts(config.plots,
+                           a.plots_dir.empty() ? default_plots_dir() : fs::path(a.plots_dir));
   } catch (const std::exception& e) {
     print_error(e.what());
     return 1;

@@ -195,15 +195,22 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   fmt::print("trace {}: {} tasks in {} iterations, recorded with {} thread(s), {}, block size {}\n",
              a.trace, graph.tasks(), graph.iterations.size(), trace_threads,
              h.value("scheduler", std::string("?")), h.value("block_size", 0));
-  fmt::print("work {:.3f} s (sum of task durations), critical path {:.3f} s\n"
+  // A duration in the unit that shows it (a critical path of 23 us printed as
+  // "0.000 s" before).
+  const auto duration = [](double ns) {
+    return ns >= 1e9 ? fmt::format("{:.3f} s", ns * 1e-9)
+           : ns >= 1e6 ? fmt::format("{:.3f} ms", ns * 1e-6)
+                       : fmt::format("{:.3f} us", ns * 1e-3);
+  };
+  fmt::print("work {} (sum of task durations), critical path {}\n"
              "gaps between blocks: median {:.0f} ns, mean {:.0f} ns; between tasks in a block: "
              "median {:.0f} ns, mean {:.0f} ns\n",
-             static_cast<double>(graph.work_ns()) * 1e-9,
-             [&] {
+             duration(static_cast<double>(graph.work_ns())),
+             duration([&] {
                double cp = 0;
                for (const auto& g : graph.iterations) cp += static_cast<double>(g.critical_path_ns);
-               return cp * 1e-9;
-             }(),
+               return cp;
+             }()),
              gaps.block_median, gaps.block_mean, gaps.task_median, gaps.task_mean);
   fmt::print("simulated: scheduler {}, block size {}{}\ncosts (ns): {}\n\n", scheduler, block_size,
              policy == Policy::kPriority ? " (priority replayed in fifo order)" : "",

@@ -253,6 +253,13 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
   EXPECT_TRUE(contains(r.err, "cannot write folder.png: Is a directory")) << r.err;
   EXPECT_FALSE(contains(r.err, ".tmp-")) << r.err;
 
+  // A misspelt plot was reported only after every run had finished.
+  write("pl.json", R"({"name": "p", "scenes": ["builtin:cornell"], "plot": "speedupp"})");
+  r = hrad("experiment pl.json --out pp");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "plot 'speedupp': no script")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "pp"));
+
   // A relative --image is where hrad runs, not in the output folder.
   r = hrad("solve builtin:cornell --iterations 1 --image pics/y.png --out run");
   EXPECT_EQ(r.status, 0) << r.err;

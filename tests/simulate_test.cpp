@@ -348,6 +348,9 @@ TEST(Simulate, CommandLine) {
   }
   EXPECT_EQ(simulated, 3 * 2) << "procs 1, 2, 4: one iteration and the total each";
   EXPECT_NE(text("out.txt").find("simulated"), std::string::npos);
+  // Eight levels of 2 us tasks: the critical path in the unit that shows it (it was
+  // printed as "0.000 s").
+  EXPECT_NE(text("out.txt").find("critical path 16.000 us"), std::string::npos) << text("out.txt");
 
   // Cutting every 2000 ns task to 1000 ns halves the 1-processor time (zero costs).
   ASSERT_EQ(run("t.bin --procs 1 --max-task-ns 1000 --costs zero.json --overheads typical --block-ns 0 "

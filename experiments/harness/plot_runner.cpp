@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <stdexcept>
 
 #ifndef HRAD_SOURCE_DIR
 #define HRAD_SOURCE_DIR ""
@@ -50,6 +51,16 @@ std::string find_plot_python() {
   for (const std::string& c : candidates)
     if (imports_matplotlib(c)) return c;
   return "";
+}
+
+void require_plot_scripts(const std::vector<std::string>& names, const fs::path& plots_dir) {
+  for (const std::string& name : names) {
+    std::error_code ec;
+    if (!fs::is_regular_file(plots_dir / (name + ".py"), ec))
+      throw std::invalid_argument(fmt::format(
+          "plot '{}': no script {} (set HRAD_PLOTS_DIR or --plots-dir, or --no-plot)", name,
+          (plots_dir / (name + ".py")).string()));
+  }
 }
 
 bool run_plots(const std::vector<std::string>& names, const fs::path& result_dir,

@@ -19,6 +19,12 @@ namespace hrad::experiment {
 /// A Python interpreter that imports matplotlib, or "" when there is none.
 [[nodiscard]] std::string find_plot_python();
 
+/// Throws std::invalid_argument naming the first of `names` without a script in
+/// `plots_dir`: checked before an experiment runs, not after (a misspelt plot was
+/// reported only once every run had finished).
+void require_plot_scripts(const std::vector<std::string>& names,
+                          const std::filesystem::path& plots_dir);
+
 /// Runs each plots/<name>.py on `result_dir` (with `extra_args` appended), echoing the
 /// scripts' output to the terminal. Returns false (after printing why on `log`) when a
 /// script is missing or fails; prints a warning and returns true when no interpreter
