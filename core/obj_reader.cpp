@@ -54,6 +54,37 @@ std::vector<std::string_view> split_lines(std::string_view text) {
   return lines;
 }
 
+/// The text with each backslash-newline (OBJ's and MTL's line continuation) replaced by
+/// a space, and the newlines it removed put back after the joined line, so that every
+/// other line keeps its number (tinyobjloader does not join lines; before, `f 1 2 \`
+/// was "malformed vertex reference '\'").
+std::string join_continuations(std::string_view text) {
+  if (text.find('\\') == std::string_view::npos) return std::string(text);
+  std::string out;
+  out.reserve(text.size());
+  std::size_t owed = 0;  // newlines to put back after the current joined line
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\\') {
+      std::size_t j = i + 1;
+      if (j < text.size() && text[j] == '\r') ++j;
+      if (j < text.size() && text[j] == '\n') {
+        out += ' ';
+        ++owed;
+        i = j;
+        continue;
+      }
+    }
+    out += c;
+    if (c == '\n') {
+      out.append(owed, '\n');
+      owed = 0;
+    }
+  }
+  out.append(owed, '\n');
+  return out;
+}
+
 /// Tokens separated by spaces and tabs (tinyobjloader's only separators), up to
 /// the first token that starts a comment.
 std::vector<std::string_view> split_tokens(std::string_view line) {
@@ -532,15 +563,16 @@ std::vector<std::filesystem::path> mtllib_files(const Statement& st,
 
 Scene read_obj(const std::string& path) {
   namespace fs = std::filesystem;
-  const std::string text = read_text(path, path, 0, "the file");
+  const std::string text = join_continuations(read_text(path, path, 0, "the file"));
   const ObjScan scan = scan_obj(text, path);
   std::vector<MtlText> mtls;
   std::set<fs::path> seen;
   for (const Statement& st : scan.mtllibs) {
     for (const fs::path& p : mtllib_files(st, fs::path(path).parent_path())) {
       if (!seen.insert(p.lexically_normal()).second) continue;
-      mtls.push_back({p.string(), read_text(p.string(), path, st.line,
-                                            fmt::format("material library '{}'", p.string()))});
+      mtls.push_back({p.string(),
+                      join_continuations(read_text(p.string(), path, st.line,
+                                                   fmt::format("material library '{}'", p.string())))});
     }
   }
   return build(scan, path, mtls, fs::path(path).stem().string(), path);
@@ -552,9 +584,10 @@ Scene parse_obj(std::string_view obj_text, std::string_view mtl_text,
   std::string mtl_name = name_for_errors;
   if (mtl_name.size() >= 4 && mtl_name.ends_with(".obj")) mtl_name.resize(mtl_name.size() - 4);
   mtl_name += ".mtl";
-  const ObjScan scan = scan_obj(obj_text, name_for_errors);
+  const std::string joined = join_continuations(obj_text);
+  const ObjScan scan = scan_obj(joined, name_for_errors);
   std::vector<MtlText> mtls;
-  if (!mtl_text.empty()) mtls.push_back({mtl_name, std::string(mtl_text)});
+  if (!mtl_text.empty()) mtls.push_back({mtl_name, join_continuations(mtl_text)});
   return build(scan, name_for_errors, mtls, fs::path(name_for_errors).stem().string(),
                name_for_errors);
 }

@@ -260,6 +260,11 @@ RunStats Solver::run() {
 
     std::uint64_t links = 0;
     for (const Element* e : elements) links += e->links.size();
+    if (it == 1 && links == 0 && m.scene.faces.size() > 1)
+      stats.warnings.push_back(
+          "no link: no two polygons face each other, so nothing but emission is seen (a polygon "
+          "sends and receives light on the side its normal points to, by the right-hand rule "
+          "over its vertex order: are the faces' orientations flipped?)");
     is.links = links;
     is.elements = elements.size();
     is.bytes["elements"] = m.hierarchy.element_bytes();

@@ -84,11 +84,12 @@ nlohmann::json probe_report(const ProbeTable& a, const ProbeTable& b, double flo
     fmt::print("  within 2 standard errors of the reference: {} of {}\n", c.within_2se,
                c.probes.size());
   if (rows) {
-    fmt::print("  {:>5} {:>12} {:>12} {:>10}{}\n", "probe", "E (result)", "E (ref)", "rel.err",
-               c.has_se ? "    |d|/SE" : "");
+    // E is the mean of the three channels; rel.err is the largest channel's, as above.
+    fmt::print("  {:>5} {:>13} {:>13} {:>11}{}\n", "probe", "E mean (res)", "E mean (ref)",
+               "rel.err max", c.has_se ? "     |d|/SE" : "");
     for (std::size_t i = 0; i < c.probes.size(); ++i) {
       const ProbeError& e = c.probes[i];
-      fmt::print("  {:>5} {:>12.5g} {:>12.5g} {:>10.3g}", i, e.result.mean(), e.reference.mean(),
+      fmt::print("  {:>5} {:>13.5g} {:>13.5g} {:>11.3g}", i, e.result.mean(), e.reference.mean(),
                  e.rel_error);
       if (c.has_se) fmt::print(" {:>10.3g}", e.z);
       fmt::print("\n");

@@ -253,6 +253,20 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
   EXPECT_TRUE(contains(r.err, "cannot write folder.png: Is a directory")) << r.err;
   EXPECT_FALSE(contains(r.err, ".tmp-")) << r.err;
 
+  // compare's table shows channel means, its error the largest channel: the header says so.
+  write("a.txt", "x,y,z,nx,ny,nz,E_r,E_g,E_b\n0,0,0,0,0,1,1,2,3\n");
+  r = hrad("compare a.txt a.txt --per-probe");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "E mean (res)") && contains(r.out, "rel.err max")) << r.out;
+
+  // Every face turned away from every other made 0 links, silently.
+  write("away.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 0 1 1\nv 1 1 1\nv 1 0 1\n"
+                    "mtllib away.mtl\nusemtl l\nf 1 4 3 2\nf 5 8 7 6\n");
+  write("away.mtl", "newmtl l\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
+  r = hrad("solve away.obj --iterations 1 --out away --quiet");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "no two polygons face each other")) << r.err;
+
   // A misspelt plot was reported only after every run had finished.
   write("pl.json", R"({"name": "p", "scenes": ["builtin:cornell"], "plot": "speedupp"})");
   r = hrad("experiment pl.json --out pp");

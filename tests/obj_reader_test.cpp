@@ -307,6 +307,17 @@ TEST(ObjGeometry, PolygonsWithMoreThan255VerticesSurvive) {
   EXPECT_EQ(s.faces[1].count, 3u);
 }
 
+// A backslash at the end of a line continues it (OBJ and MTL); every other line keeps
+// its number. Before, "f 1 2 \" was a malformed vertex reference.
+TEST(ObjGeometry, BackslashContinuesALine) {
+  const Scene s = parse_obj("v 0 0 0\nv 1 0 \\\n 0\nv 1 1 0\r\nusemtl a\nf 1 2 \\\r\n 3\n",
+                            "newmtl a\nKd 0.2 \\\n0.4 0.6\n", "t.obj");
+  ASSERT_EQ(s.polygon_count(), 1u);
+  EXPECT_EQ(s.vertices[1], Vec3(1, 0, 0));
+  EXPECT_EQ(s.face_material(0).reflectance.matrix(), Vec3(0.2, 0.4, 0.6));
+  EXPECT_EQ(parse_error("v 0 0 \\\n0\nv 1 nan 0\n").line(), 3);
+}
+
 TEST(ObjGeometry, RelativeIndicesAndLineEndings) {
   // CRLF and lone CR end lines too; the bad index is on line 5 either way.
   for (const std::string nl : {"\n", "\r\n", "\r"}) {
