@@ -83,7 +83,10 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
   for (std::size_t i = 0; i < p.size(); ++i) perimeter2 += (p[(i + 1) % p.size()] - p[i]).squaredNorm();
   const double area = polygon_area(p);
   if (!(area > 1e-12 * perimeter2)) {
-    ++degenerate_faces_;
+    // A face of no area at all, or a sliver: area below 1e-12 of its squared edge
+    // lengths (a long face 1e-10 wide), whose normal cannot be trusted. They were all
+    // called zero-area.
+    ++(area > 0 ? sliver_faces_ : degenerate_faces_);
     return;
   }
   if (idx.size() == 3) {
@@ -172,6 +175,10 @@ Scene SceneBuilder::finish(const std::string& file) {
                      defaulted_faces_));
   if (degenerate_faces_ > 0)
     warn(fmt::format("{} degenerate (zero-area) face(s) dropped", degenerate_faces_));
+  if (sliver_faces_ > 0)
+    warn(fmt::format("{} sliver face(s) dropped (area below 1e-12 of the squared edge lengths: "
+                     "too thin for a reliable normal)",
+                     sliver_faces_));
   if (triangulated_faces_ > 0)
     warn(fmt::format("{} non-planar or non-convex polygon(s) triangulated", triangulated_faces_));
   if (scene_.faces.empty()) throw InputError(file, 0, "the scene has no polygon with positive area");

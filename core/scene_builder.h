@@ -60,6 +60,7 @@ class SceneBuilder {
   std::uint32_t default_material_ = UINT32_MAX;
   std::size_t defaulted_faces_ = 0;
   std::size_t degenerate_faces_ = 0;
+  std::size_t sliver_faces_ = 0;
   std::size_t triangulated_faces_ = 0;
 };
 

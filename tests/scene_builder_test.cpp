@@ -82,6 +82,21 @@ TEST(SceneBuilder, DropsAndCountsDegenerateFaces) {
   EXPECT_NE(s.warnings[0].find("2 degenerate"), std::string::npos);
 }
 
+// A huge thin sliver (1000 long, 1e-10 wide) is dropped as a sliver, not called
+// zero-area.
+TEST(SceneBuilder, CallsSliversSlivers) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  const std::vector<Vec3> ok = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::vector<Vec3> sliver = {{0, 0, 0}, {1000, 0, 0}, {1000, 1e-10, 0}, {0, 1e-10, 0}};
+  b.add_polygon(ok, m, kHere);
+  b.add_polygon(sliver, m, kHere);
+  const Scene s = b.finish("f");
+  EXPECT_EQ(s.faces.size(), 1u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("1 sliver face(s) dropped"), std::string::npos) << s.warnings[0];
+}
+
 TEST(SceneBuilder, RejectsBadVerticesWithFileAndLine) {
   SceneBuilder b("t", "t");
   try {
