@@ -278,7 +278,7 @@ V channels(const Rgb& x) {
 // their sum: the same value as radiosity_towards gives. Links and open areas do not
 // change during a propagation, so the matrix is built once per propagation, and each
 // sweep's gather streams over it and a small dense array of values instead of reading
-// every link's source element (448 bytes apart; for a cluster its ClusterLight too).
+// every link's source element (456 bytes apart; for a cluster its ClusterLight too).
 // Weights are floats, like the links' form factor and visibility they come from.
 class GatherMatrix {
  public:

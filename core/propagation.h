@@ -49,7 +49,8 @@ ClusterReceiver parse_cluster_receiver(const std::string& name);
 void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
                      const std::function<Rgb(const Link&)>& value, bool open_area = true);
 
-/// `elements` must list parents before children (Hierarchy::elements()).
+/// `elements` must list parents before children and hold every element a link refers
+/// to (Hierarchy::elements()).
 /// `grey`: every radiosity, emission and reflectance has equal channels (a grey
 /// scene, core/effects.h), so the gather sums channel 0 only and copies it; the
 /// result is the same to the last bit. Cluster receivers in Cosine mode still

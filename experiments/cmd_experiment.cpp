@@ -180,7 +180,8 @@ void register_experiment(CLI::App& app, CommandContext& ctx) {
       ->type_name("DIR");
   sub->add_option("--resume", args->resume,
                   "Resume an interrupted experiment in DIR: runs already in its runs.csv are "
-                  "skipped (same config, --quick and --set as before)")
+                  "skipped (same config; without --quick or --set, those DIR's manifest "
+                  "records apply)")
       ->type_name("DIR");
   sub->add_flag("--no-plot", args->no_plot, "Do not run the plot scripts at the end");
   sub->add_option("--plots-dir", args->plots_dir,
