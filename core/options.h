@@ -32,6 +32,8 @@
 // |                     |        |              | all: compute every effect regardless                       |
 // | shaft_culling       | string | "off"        | on: V = 1 without rays for pairs whose shaft holds no      |
 // |                     |        |              | polygon (core/shaft.h); off: always cast the rays          |
+// | max_memory_gb       | double | 0            | refinement stops with an error when its elements and links |
+// |                     |        |              | pass this (0: 3/4 of the machine's physical memory)        |
 #pragma once
 
 #include <cstdint>
@@ -63,6 +65,7 @@ struct SolverOptions {
   int image_width = 640;
   std::string effects = "auto";
   std::string shaft_culling = "off";
+  double max_memory_gb = 0;
 };
 
 }  // namespace hrad

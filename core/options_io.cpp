@@ -62,6 +62,9 @@ const std::vector<Row>& rows() {
        "every effect"},
       {"shaft_culling", &S::shaft_culling,
        "on: no rays for pairs whose shaft holds no polygon (V = 1); off: always cast them"},
+      {"max_memory_gb", &S::max_memory_gb,
+       "refinement stops with an error when its elements and links pass this many GB (0: "
+       "3/4 of the machine's physical memory)"},
   };
   return table;
 }
@@ -276,6 +279,7 @@ void validate_options(const SolverOptions& o) {
   check(std::isfinite(o.gather_tolerance) && o.gather_tolerance > 0, "gather_tolerance",
         str(o.gather_tolerance), "a finite number > 0");
   check(o.max_gather_sweeps >= 1, "max_gather_sweeps", str(o.max_gather_sweeps), ">= 1");
+  check(o.max_memory_gb >= 0, "max_memory_gb", str(o.max_memory_gb), ">= 0");
   check(o.cluster_model == "isotropic" || o.cluster_model == "directional", "cluster_model",
         o.cluster_model, "isotropic or directional");
   check(o.cluster_receiver == "isotropic" || o.cluster_receiver == "cosine", "cluster_receiver",

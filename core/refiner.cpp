@@ -22,6 +22,8 @@ namespace {
 constexpr std::size_t kLoadChunk = 4096;
 /// Retired tasks a refiner may owe the shared count before it publishes them.
 constexpr std::int64_t kOwedLimit = 1024;
+/// Blocks between a refiner's looks at its arenas' size (RefineLimits::max_bytes).
+constexpr int kMemoryCheckBlocks = 256;
 }  // namespace
 
 struct alignas(64) Refiner::Worker {
@@ -258,6 +260,11 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
   PaddedAtomic<std::size_t> load_cursor(0);  // next initial task to load
   PaddedAtomic<int> busy(0);                 // refiners not idle
   PaddedAtomic<int> peak(0);
+  // Arena bytes of all refiners, each adding what its own arenas grew by every
+  // kMemoryCheckBlocks blocks (the arenas' counters are their owners' alone), and
+  // whether that passed limits_.max_bytes.
+  PaddedAtomic<std::uint64_t> arena_bytes(0);
+  PaddedAtomic<bool> over_memory(false);
   std::vector<Worker> workers(static_cast<std::size_t>(threads));
   const std::span<const Task> all(initial);
 
@@ -282,7 +289,8 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
   // tells the refiners to stop.
   std::thread solver([&] {
     if (plan_) (void)bind_thread(topology_, plan_->solver, nullptr);
-    for (std::int64_t v = pending.v.load(std::memory_order_acquire); v != 0 && !interrupted();
+    for (std::int64_t v = pending.v.load(std::memory_order_acquire);
+         v != 0 && !interrupted() && !over_memory.v.load(std::memory_order_acquire);
          v = pending.v.load(std::memory_order_acquire))
       pending.v.wait(v, std::memory_order_acquire);
     done.v.store(true, std::memory_order_release);
@@ -316,11 +324,23 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     // While chunks are left to load, a refiner with nothing of its own loads one
     // rather than take what another has just loaded.
     const auto loading = [&] { return load_cursor.v.load(std::memory_order_relaxed) < all.size(); };
+    std::uint64_t published = 0;  // this refiner's arena bytes already in arena_bytes
+    int blocks_since_check = kMemoryCheckBlocks;
     for (;;) {
-      if (interrupted()) {
-        // Stop here, tasks left where they are (core/interrupt.h): the stage is
-        // abandoned. The change of `pending` wakes the solver thread, which then sees
-        // the interrupt too.
+      if (limits_.max_bytes > 0 && ++blocks_since_check >= kMemoryCheckBlocks) {
+        blocks_since_check = 0;
+        const std::uint64_t own = hierarchy_.arena(w.id).bytes_used() +
+                                  hierarchy_.link_arena(w.id).bytes_used() +
+                                  hierarchy_.link_staging_arena(w.id).bytes_used();
+        const std::uint64_t total =
+            arena_bytes.v.fetch_add(own - published, std::memory_order_relaxed) + own - published;
+        published = own;
+        if (total > limits_.max_bytes) over_memory.v.store(true, std::memory_order_release);
+      }
+      if (interrupted() || over_memory.v.load(std::memory_order_acquire)) {
+        // Stop here, tasks left where they are (core/interrupt.h, max_bytes): the
+        // stage is abandoned. The change of `pending` wakes the solver thread, which
+        // then sees the flag too.
         pending.v.store(-1, std::memory_order_release);
         pending.v.notify_one();
         break;
@@ -444,6 +464,8 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     total.trace.insert(total.trace.end(), w.trace.begin(), w.trace.end());
   }
   total.peak_parallelism = peak.v.load();
+  total.over_memory = over_memory.v.load();
+  total.arena_bytes = arena_bytes.v.load();
   return total;
 }
 

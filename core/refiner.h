@@ -38,6 +38,9 @@ class Transport;
 struct RefineLimits {
   double eps_power = 0;  ///< oracle threshold in power units
   double min_area = 0;   ///< absolute: surfaces smaller than this are not split
+  /// The stage stops (RefineCounters::over_memory) when the refiners' element and link
+  /// arenas hold more than this many bytes; 0: no limit.
+  std::uint64_t max_bytes = 0;
 };
 
 /// What one refinement stage did, summed over refiners.
@@ -66,6 +69,10 @@ struct RefineCounters {
   std::uint64_t tasks_local = 0, tasks_remote = 0;
   const char* bound = "none";       ///< per refiner: what bind_thread said (core/pin_plan.h)
   std::string bind_warning;         ///< per refiner: why binding failed, if it did
+  /// The stage stopped because its arenas passed RefineLimits::max_bytes (it is then
+  /// unfinished); `arena_bytes` is what they held when that was seen.
+  bool over_memory = false;
+  std::uint64_t arena_bytes = 0;
   /// Per refiner (the fields above, one entry per worker; peak_parallelism unused).
   std::vector<RefineCounters> per_worker;
   /// One record per task when tracing was asked for (unordered).

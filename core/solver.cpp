@@ -22,6 +22,7 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -40,6 +41,15 @@ namespace {
 // 19 -> 21, 13, 2, 24, propagation 1.17 -> 0.74 s, 5 links of 359,002 different, the
 // probe errors the same to 0.01 %.
 constexpr double kIntermediateTolerance = 1e-4;
+
+/// max_memory_gb in bytes; 0 gives three quarters of the physical memory (sysconf), and
+/// no limit where that cannot be read.
+std::uint64_t memory_limit_bytes(double gb) {
+  if (gb > 0) return static_cast<std::uint64_t>(gb * 1e9);
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return 0;
+  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 4 * 3;
+}
 
 /// Leaf surface elements (those without children), depth first: the solution's
 /// finest mesh.
@@ -132,7 +142,8 @@ RunStats Solver::run() {
   const int pool = o.locks_pool > 0 ? o.locks_pool : 2 * o.threads;
   LockPool element_locks(pool, o.threads);
   LockPool link_locks(pool, o.threads);
-  const RefineLimits limits{o.eps * m.emitted_power, o.min_area * m.total_area};
+  const RefineLimits limits{o.eps * m.emitted_power, o.min_area * m.total_area,
+                            memory_limit_bytes(o.max_memory_gb)};
   Refiner refiner(m.hierarchy, m.transport, *m.oracle, limits, element_locks, link_locks);
   refiner.set_binding(m.topology.get(), &m.plan);
   add_placement_warnings(m.plan, m.topology->info(), m.hierarchy, o, stats.warnings);
@@ -177,6 +188,13 @@ RunStats Solver::run() {
     RefineCounters rc = refiner.run(*scheduler, tasks, o.threads, o.block_size,
                                     o.trace.empty() ? 0 : it);
     throw_if_interrupted();  // the stage was abandoned (core/interrupt.h)
+    if (rc.over_memory)
+      throw std::runtime_error(fmt::format(
+          "iteration {}: refinement stopped when its elements and links reached {:.3g} GB, "
+          "above the limit of {:.3g} GB (max_memory_gb; 0 means 3/4 of this machine's "
+          "memory): raise eps or min_area, or max_memory_gb",
+          it, static_cast<double>(rc.arena_bytes) / 1e9,
+          static_cast<double>(limits.max_bytes) / 1e9));
     if (!o.trace.empty()) trace.insert(trace.end(), rc.trace.begin(), rc.trace.end());
     // The stage includes building its tasks from the previous iteration's links.
     is.refine_wall_s = seconds_since(t0) + reload_s;

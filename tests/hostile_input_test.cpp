@@ -267,6 +267,14 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.err, "no two polygons face each other")) << r.err;
 
+  // --eps 1e-30 refined until memory ran out: refinement stops at max_memory_gb (by
+  // default 3/4 of the machine's memory) with an error, and writes nothing.
+  r = hrad("solve builtin:office --set max_memory_gb=0.005 --out mem");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "refinement stopped when its elements and links reached")) << r.err;
+  EXPECT_TRUE(contains(r.err, "above the limit of 0.005 GB")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "mem"));
+
   // A misspelt plot was reported only after every run had finished.
   write("pl.json", R"({"name": "p", "scenes": ["builtin:cornell"], "plot": "speedupp"})");
   r = hrad("experiment pl.json --out pp");

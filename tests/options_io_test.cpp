@@ -43,6 +43,7 @@ SolverOptions non_default_options() {
   o.locks_pool = 64;
   o.trace = "trace.bin";
   o.image_width = 320;
+  o.max_memory_gb = 2.5;
   return o;
 }
 
@@ -64,6 +65,7 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.locks_pool, b.locks_pool);
   EXPECT_EQ(a.trace, b.trace);
   EXPECT_EQ(a.image_width, b.image_width);
+  EXPECT_EQ(a.max_memory_gb, b.max_memory_gb);
 }
 
 TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
@@ -74,7 +76,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
     EXPECT_TRUE(j.contains(i.name)) << i.name;
     EXPECT_FALSE(i.help.empty()) << i.name;
   }
-  EXPECT_EQ(names.size(), 23u);  // one per field of SolverOptions
+  EXPECT_EQ(names.size(), 24u);  // one per field of SolverOptions
   EXPECT_EQ(j.size(), names.size());
   EXPECT_EQ(j["scheduler"], "stack");
   EXPECT_EQ(j["iterations"], 4);

@@ -481,4 +481,22 @@ TEST(SolverInterrupt, StopsAtTheFirstSafePointAndTheNextRunIsWhole) {
   }
 }
 
+// max_memory_gb stops a refinement stage (with one refiner or two) and the run fails
+// with a message that says what to change.
+TEST(SolverMemoryCap, StopsARefinementThatOutgrowsIt) {
+  const Scene scene = make_builtin("builtin:office");
+  for (int threads : {1, 2}) {
+    SolverOptions o;
+    o.threads = threads;
+    o.max_memory_gb = 0.002;
+    Solver s(scene, o);
+    try {
+      (void)s.run();
+      ADD_FAILURE() << "not stopped";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("raise eps or min_area"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace hrad
