@@ -186,13 +186,10 @@ class FrontPart {
 double Transport::form_factor(const Element& r, const Element& s) const {
   if (!r.is_cluster() && !s.is_cluster()) {
     const std::span<const Vec3> rc = r.corners();
-    bool behind = false, front = false;
-    for (const Vec3& v : rc) {
-      const double d = s.normal.dot(v - s.center);
-      behind = behind || d < -plane_tol_;
-      front = front || d > plane_tol_;
-    }
-    if (!(behind && front) || !(r.area > 0))
+    // r has corners both in front of s's plane and behind it (as classify() measures).
+    const bool crosses = polygon_front(rc, s.normal, s.center) > plane_tol_ &&
+                         polygon_front(rc, -s.normal, s.center) > plane_tol_;
+    if (!crosses || !(r.area > 0))
       return polygon_to_polygon_ff(rc, s.corners(), kQuadratureOrder);
     const FrontPart part(rc, s.normal, s.center);
     const double share = polygon_area(part.vertices()) / r.area;

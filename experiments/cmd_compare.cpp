@@ -21,6 +21,7 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <utility>
 
 namespace hrad::cli {
 namespace {
@@ -37,40 +38,47 @@ struct CompareArgs {
 
 nlohmann::json rgb_json(const Rgb& c) { return {c[0], c[1], c[2]}; }
 
-/// scene.source from DIR/stats.json (`solve`) or DIR/reference.json (`reference`), or ""
-/// when there is neither.
-std::string scene_source(const fs::path& dir) {
-  for (const char* name : {"stats.json", "reference.json"}) {
-    std::ifstream in(dir / name);
-    if (!in) continue;
-    try {
-      const nlohmann::json j = nlohmann::json::parse(in);
-      return j.at("scene").at("source").get<std::string>();
-    } catch (const std::exception&) {
-      continue;
+/// What compare needs of a run folder, each JSON file read once: the scene it solved
+/// (scene.source of DIR/stats.json for `solve`, else of DIR/reference.json for
+/// `reference`; "" when neither says) and, for a solve folder, the files its stats.json
+/// lists under `outputs`.
+struct RunFolder {
+  fs::path dir;
+  std::string source;
+  bool solve = false;  ///< DIR/stats.json exists
+  nlohmann::json outputs = nlohmann::json::object();
+
+  explicit RunFolder(fs::path d) : dir(std::move(d)) {
+    if (std::ifstream in(dir / "stats.json"); in) {
+      solve = true;
+      std::stringstream text;
+      text << in.rdbuf();
+      try {
+        const auto j = parse_json_document<nlohmann::json>(text.str(), (dir / "stats.json").string(), false);
+        if (const auto o = j.find("outputs"); o != j.end() && o->is_object()) outputs = *o;
+        source = j.at("scene").at("source").get<std::string>();
+      } catch (const std::exception&) {
+        // Unreadable, or no scene: nothing listed, and the scene from reference.json.
+      }
+    }
+    if (!source.empty()) return;
+    if (std::ifstream in(dir / "reference.json"); in) {
+      try {
+        source = nlohmann::json::parse(in).at("scene").at("source").get<std::string>();
+      } catch (const std::exception&) {
+      }
     }
   }
-  return "";
-}
 
-/// Whether DIR holds the result file NAME for this comparison: a `solve` folder's
-/// stats.json must list it under outputs.KEY (a file the run did not write, left from
-/// an earlier run into the same folder, is not its result); a folder without
-/// stats.json (`hrad reference`, or files put together by hand) holds what is there.
-bool holds_result(const fs::path& dir, const char* key, const char* name) {
-  if (!fs::exists(dir / name)) return false;
-  std::ifstream in(dir / "stats.json");
-  if (!in) return true;
-  std::stringstream text;
-  text << in.rdbuf();
-  try {
-    const auto j = parse_json_document<nlohmann::json>(text.str(), (dir / "stats.json").string(), false);
-    const auto outputs = j.find("outputs");
-    return outputs != j.end() && outputs->is_object() && outputs->value(key, "") == name;
-  } catch (const std::exception&) {
-    return false;
+  /// Whether DIR holds the result file NAME for this comparison: a solve folder's
+  /// stats.json must list it under outputs.KEY (a file the run did not write, left
+  /// from an earlier run into the same folder, is not its result); a folder without
+  /// stats.json (`hrad reference`, or files put together by hand) holds what is there.
+  [[nodiscard]] bool holds(const char* key, const char* name) const {
+    if (!fs::exists(dir / name)) return false;
+    return !solve || outputs.value(key, "") == name;
   }
-}
+};
 
 nlohmann::json probe_report(const ProbeTable& a, const ProbeTable& b, double floor, bool rows) {
   const ProbeComparison c = compare_probes(a, b, floor);
@@ -152,7 +160,7 @@ int run_compare(const CompareArgs& args) {
       // A folder against a file: the folder's probes.csv, if it is its run's.
       const auto probe_file = [](const fs::path& p) {
         if (!fs::is_directory(p)) return p;
-        if (!holds_result(p, "probes", "probes.csv"))
+        if (!RunFolder(p).holds("probes", "probes.csv"))
           throw std::invalid_argument(fmt::format(
               "{}: holds no probes.csv (in a solve folder, only the files its stats.json lists "
               "under 'outputs' count)",
@@ -162,14 +170,12 @@ int run_compare(const CompareArgs& args) {
       j["probes"] = probe_report(read_probe_table(probe_file(a)), read_probe_table(probe_file(b)),
                                  args.floor, args.per_probe);
     } else {
-      const std::string sa = scene_source(a), sb = scene_source(b);
-      if (!sa.empty() && !sb.empty() && sa != sb)
+      const RunFolder fa(a), fb(b);
+      if (!fa.source.empty() && !fb.source.empty() && fa.source != fb.source)
         throw std::invalid_argument(fmt::format("{} solved '{}' but {} solved '{}': not the same scene",
-                                                a.string(), sa, b.string(), sb));
-      const bool probes =
-          holds_result(a, "probes", "probes.csv") && holds_result(b, "probes", "probes.csv");
-      const bool surfaces =
-          holds_result(a, "mesh", "solution.ply") && holds_result(b, "mesh", "solution.ply");
+                                                a.string(), fa.source, b.string(), fb.source));
+      const bool probes = fa.holds("probes", "probes.csv") && fb.holds("probes", "probes.csv");
+      const bool surfaces = fa.holds("mesh", "solution.ply") && fb.holds("mesh", "solution.ply");
       if (!probes && !surfaces)
         throw std::invalid_argument(fmt::format(
             "nothing to compare: {} and {} do not both hold probes.csv or both solution.ply "

@@ -458,7 +458,7 @@ TEST(SolverAccuracy, OfficeAtDefaultsIsNotDark) {
   EXPECT_LT(median, 0.04) << "median relative error";
 }
 
-}  // namespace
+
 // An interrupt (core/interrupt.h) unwinds a run at its first safe point, with two
 // refiners as with one, and leaves nothing that stops the next run.
 TEST(SolverInterrupt, StopsAtTheFirstSafePointAndTheNextRunIsWhole) {
@@ -499,4 +499,5 @@ TEST(SolverMemoryCap, StopsARefinementThatOutgrowsIt) {
   }
 }
 
+}  // namespace
 }  // namespace hrad
