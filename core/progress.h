@@ -1,10 +1,12 @@
-// A progress line for long runs: "iteration 2: refine   43.0%  0:12 elapsed, ~0:16 left",
+// A progress line for long runs: "iteration 2/4: refine 1.23M tasks, 310k links  43.0%
+// 0:12 elapsed, ~0:16 left",
 // redrawn in place with '\r' on stderr, at most 10 times per second, and only when
 // stderr is a terminal, so pipes and log files stay clean. Its callback() is the
 // Solver's ProgressFn (core/solver.h); like that, it is meant for one thread.
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -42,6 +44,8 @@ class ProgressReporter {
 
   /// "0:07", "12:34", "1:02:03" — whole seconds, rounded down.
   [[nodiscard]] static std::string format_duration(double seconds);
+  /// A count in at most 5 characters: "950", "12.3k", "1.23M", "4.56G".
+  [[nodiscard]] static std::string format_count(std::uint64_t n);
   /// The text of one line (without '\r' or padding). `elapsed_s` since the start.
   [[nodiscard]] static std::string format_line(const std::string& phase, double fraction,
                                                double elapsed_s);

@@ -465,7 +465,8 @@ double propagation_sweep(const std::vector<Element*>& elements, int threads,
 }
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
-                            int max_sweeps, int threads, ClusterReceiver mode, bool grey) {
+                            int max_sweeps, int threads, ClusterReceiver mode, bool grey,
+                            const std::function<void(int sweeps, double change)>& on_sweep) {
   PropagationResult r;
   Sweeper sweeper(elements, threads, mode, grey);  // links do not change here
   double previous = 0;
@@ -474,6 +475,7 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
     const double c = sweeper.sweep();
     ++r.sweeps;
     r.last_change = c;
+    if (on_sweep) on_sweep(r.sweeps, c);
     if (c < 1e-13) {  // at round-off: nothing left to converge
       r.converged = true;
       break;

@@ -55,9 +55,12 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
 /// scene, core/effects.h), so the gather sums channel 0 only and copies it; the
 /// result is the same to the last bit. Cluster receivers in Cosine mode still
 /// gather three channels.
+/// `on_sweep`, when given, is called on the calling thread after each sweep with the
+/// sweeps done and the last relative change (the progress line).
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
                             int max_sweeps, int threads,
-                            ClusterReceiver mode = ClusterReceiver::Isotropic, bool grey = false);
+                            ClusterReceiver mode = ClusterReceiver::Isotropic, bool grey = false,
+                            const std::function<void(int sweeps, double change)>& on_sweep = {});
 
 /// One Jacobi sweep (gather + push-pull), B <- B'; returns the relative change.
 double propagation_sweep(const std::vector<Element*>& elements, int threads,

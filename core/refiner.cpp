@@ -12,6 +12,8 @@
 #include <atomic>
 #include <cmath>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <span>
 #include <thread>
 
@@ -36,6 +38,10 @@ struct alignas(64) Refiner::Worker {
   std::vector<Element*> started;  ///< receivers whose first link this worker stored
   std::uint64_t next_id = 0;  ///< ids of the tasks this worker creates
   std::vector<TraceRecord> trace;
+  /// c.tasks and the links accepted, published once per block for the progress
+  /// thread (Refiner::set_progress) when there is one; only this worker writes them.
+  alignas(64) std::atomic<std::uint64_t> shown_tasks{0};
+  std::atomic<std::uint64_t> shown_links{0};
 };
 
 // Stores a block's accepted links at their receivers, one lock acquisition per
@@ -296,6 +302,32 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     done.v.store(true, std::memory_order_release);
   });
 
+  // Progress during the stage (set_progress): a thread that wakes every interval,
+  // sums what the refiners published and reports it, until the stage is over.
+  const bool report = static_cast<bool>(progress_);
+  std::mutex progress_mutex;
+  std::condition_variable progress_cv;
+  bool stage_over = false;
+  std::thread reporter;
+  if (report) {
+    reporter = std::thread([&] {
+      std::unique_lock lock(progress_mutex);
+      while (!progress_cv.wait_for(lock, std::chrono::milliseconds(progress_interval_ms_),
+                                   [&] { return stage_over; })) {
+        RefineProgress p;
+        for (const Worker& w : workers) {
+          p.tasks += w.shown_tasks.load(std::memory_order_relaxed);
+          p.links += w.shown_links.load(std::memory_order_relaxed);
+        }
+        const std::int64_t left = pending.v.load(std::memory_order_relaxed);
+        // `pending` counts retirements late, so it can exceed what is truly left.
+        p.pending = left > 0 ? static_cast<std::uint64_t>(left) : 0;
+        p.elapsed_s = seconds_since(stage_start);
+        progress_(p);
+      }
+    });
+  }
+
 #pragma omp parallel num_threads(threads)
   {
     Worker& w = workers[static_cast<std::size_t>(omp_get_thread_num())];
@@ -400,6 +432,10 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
       }
       store_links(w, false);
       ++w.c.takes;
+      if (report) {
+        w.shown_tasks.store(w.c.tasks, std::memory_order_relaxed);
+        w.shown_links.store(w.c.links_created + w.c.links_kept, std::memory_order_relaxed);
+      }
       // The shared count changes by (children - block) per block. Children are counted
       // before anyone can see them; retirements may be published late (the count then
       // only stays above the true one, so it cannot reach zero early): a block with
@@ -443,6 +479,14 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     w.c.cpu_s = thread_cpu_seconds() - cpu_start;
   }
   solver.join();
+  if (report) {
+    {
+      const std::lock_guard lock(progress_mutex);
+      stage_over = true;
+    }
+    progress_cv.notify_one();
+    reporter.join();
+  }
 
   RefineCounters total;
   for (const Worker& w : workers) {

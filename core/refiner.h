@@ -26,6 +26,7 @@
 #include "schedulers/scheduler.h"
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -79,6 +80,15 @@ struct RefineCounters {
   std::vector<TraceRecord> trace;
 };
 
+/// How far a refinement stage has come, as RefineProgressFn sees it.
+struct RefineProgress {
+  std::uint64_t tasks = 0;    ///< tasks examined so far, over all refiners
+  std::uint64_t pending = 0;  ///< tasks known and not yet examined (queued or still to load)
+  std::uint64_t links = 0;    ///< links accepted so far (created or kept)
+  double elapsed_s = 0;       ///< since the stage started
+};
+using RefineProgressFn = std::function<void(const RefineProgress&)>;
+
 class Refiner {
  public:
   Refiner(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
@@ -92,6 +102,15 @@ class Refiner {
   void set_binding(const Topology* topology, const PinPlan* plan) {
     topology_ = topology;
     plan_ = plan;
+  }
+
+  /// While a stage runs, calls `fn` about every `interval_ms` from a thread of its
+  /// own (never two calls at once, never after run() returns): refiners publish their
+  /// counts once per block, so the figures lag by at most a block each. Without a
+  /// call (or with an empty `fn`) no such thread runs and refiners publish nothing.
+  void set_progress(RefineProgressFn fn, int interval_ms = 100) {
+    progress_ = std::move(fn);
+    progress_interval_ms_ = interval_ms;
   }
 
   /// Runs one refinement stage from `initial` tasks to completion. No element may
@@ -128,6 +147,8 @@ class Refiner {
   LockPool& link_locks_;
   const Topology* topology_ = nullptr;
   const PinPlan* plan_ = nullptr;
+  RefineProgressFn progress_;
+  int progress_interval_ms_ = 100;
 };
 
 }  // namespace hrad

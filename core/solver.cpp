@@ -9,6 +9,7 @@
 #include "schedulers/pool_order.h"
 #include "core/lock_pool.h"
 #include "core/options_io.h"
+#include "core/progress.h"
 #include "core/propagation.h"
 #include "core/ray_scene.h"
 #include "core/refiner.h"
@@ -180,7 +181,22 @@ RunStats Solver::run() {
     IterationStats is;
     is.iteration = it;
     const double base = static_cast<double>(it - 1) / o.iterations;
-    if (m.progress) m.progress(fmt::format("iteration {}/{}: refine", it, o.iterations), base);
+    if (m.progress) {
+      m.progress(fmt::format("iteration {}/{}: refine", it, o.iterations), base);
+      // During the stage: tasks examined and links accepted so far. The share done is
+      // estimated from the previous iteration's task count (or the tasks known, when
+      // more); iteration 1 starts from one task and finds the rest as it goes, so it
+      // claims no share until it ends.
+      const std::uint64_t expected = stats.iterations.empty() ? 0 : stats.iterations.back().tasks;
+      refiner.set_progress([&m, &o, it, base, expected](const RefineProgress& p) {
+        const double known = static_cast<double>(std::max(expected, p.tasks + p.pending));
+        const double share = expected > 0 ? static_cast<double>(p.tasks) / known : 0.0;
+        m.progress(fmt::format("iteration {}/{}: refine {} tasks, {} links", it, o.iterations,
+                               ProgressReporter::format_count(p.tasks),
+                               ProgressReporter::format_count(p.links)),
+                   base + 0.8 * share / o.iterations);
+      });
+    }
     element_locks.reset_counters();
     link_locks.reset_counters();
     auto scheduler = make_scheduler(o.scheduler, sched_config);
@@ -233,8 +249,9 @@ RunStats Solver::run() {
     is.lock_wait_s["element"] = element_locks.wait_seconds();
     is.lock_wait_s["link"] = link_locks.wait_seconds();
 
-    if (m.progress) m.progress(fmt::format("iteration {}/{}: propagate", it, o.iterations),
-                               base + 0.8 / o.iterations);
+    const double propagate_base = base + 0.8 / o.iterations;
+    if (m.progress)
+      m.progress(fmt::format("iteration {}/{}: open fractions", it, o.iterations), propagate_base);
     t0 = Clock::now();
     std::vector<Element*> elements = m.hierarchy.elements();
     const OpenStats open = update_open_fractions(elements, m.hierarchy, m.rays, o.seed, o.threads,
@@ -259,10 +276,20 @@ RunStats Solver::run() {
     const bool settled = auto_effects && it < o.iterations && it > 1 &&
                          rc.tasks == rc.links_kept && rc.links_created == 0;
     const bool last = it == o.iterations || settled;
+    const auto on_sweep = [&](int sweeps, double change) {
+      // The share of the stage is a guess: a sweep count of its own (the number of
+      // sweeps is known only at the end) that approaches the stage's end.
+      if (m.progress)
+        m.progress(fmt::format("iteration {}/{}: propagate, sweep {} ({:.1e})", it, o.iterations,
+                               sweeps, change),
+                   propagate_base + 0.2 / o.iterations * sweeps / (sweeps + 10.0));
+    };
+    if (m.progress)
+      m.progress(fmt::format("iteration {}/{}: propagate", it, o.iterations), propagate_base);
     const PropagationResult pr =
         propagate(elements, last ? o.gather_tolerance
                                  : std::max(o.gather_tolerance, kIntermediateTolerance),
-                  max_sweeps, o.threads, m.receiver_mode, grey);
+                  max_sweeps, o.threads, m.receiver_mode, grey, on_sweep);
     throw_if_interrupted();
     is.propagate_wall_s = seconds_since(t0);
     is.gather_sweeps = pr.sweeps;

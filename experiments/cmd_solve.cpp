@@ -158,16 +158,21 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
         throw std::invalid_argument(fmt::format(
             "--image {}: the image is written as PNG, so its name must end in .png", a.image));
     }
+    // Loading and preparing can take seconds on large scenes: the line says so.
+    progress = std::make_unique<ProgressReporter>(a.quiet);
+    progress->update("loading " + fs::path(a.scene).filename().string(), 0);
     scene = load_scene(a.scene);
     if (!a.probes.empty()) {
       probes = read_probes(a.probes);
       if (probes.empty())
         throw std::invalid_argument(fmt::format("{}: holds no probe (only comments or blank lines)", a.probes));
     }
+    if (!scene.warnings.empty()) progress->finish();  // warnings start on a clean line
     for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
-    progress = std::make_unique<ProgressReporter>(a.quiet);
+    progress->update("preparing (hierarchy, rays, effects)", 0);
     solver = std::make_unique<Solver>(scene, options, progress->callback());
   } catch (const std::exception& e) {
+    if (progress) progress->finish();
     print_error(e.what());
     return 1;
   }
