@@ -94,11 +94,18 @@ double open_gain(const Element& e) {
 }
 
 void push_one(Element* e, bool cosine) {
-  // What the parent gathered itself is shared out by the push weights; what it
-  // inherited passes on as it came (core/push_weights.h).
+  // Below an input polygon, what its surface chain gathered (the parent's links and
+  // those of its surface ancestors) is shared out by the push weights; what came from
+  // the clusters above passes on as it came (core/push_weights.h). Once pushed, a
+  // surface element's `gathered` holds its surface chain's irradiance for its children.
   const Element* p = e->parent;
-  e->next = p ? Rgb(e->gathered + p->next + (static_cast<double>(e->push_weight) - 1) * p->gathered)
-              : e->gathered;
+  if (p && !p->is_cluster() && !e->is_cluster()) {
+    const Rgb chain = e->gathered + static_cast<double>(e->push_weight) * p->gathered;
+    e->next = p->next - p->gathered + chain;
+    e->gathered = chain;
+    return;
+  }
+  e->next = p ? Rgb(e->gathered + p->next) : e->gathered;
   if (!cosine || !e->parent || !e->parent->is_cluster()) return;
   const std::array<Rgb, 6>& up = e->parent->light->arriving;
   if (e->is_cluster()) {

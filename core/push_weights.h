@@ -12,19 +12,27 @@
 // and the answer came out 4.7 % high (1/(1 - rho S) turns a spread of S into a
 // surplus).
 //
-// So each surface child c of a surface element P with links gets a weight k_c, the
-// share of P's irradiance it receives relative to P's mean: the form factors from c to
-// P's link sources, times each link's visibility and its source's radiosity (frozen
-// during refinement; the form factor alone while every source is dark), over the
-// same sum with P's own form factors, scaled so that the open-area mean of k over P's
-// children is 1. The push gives c its own irradiance, what P inherited from its
-// ancestors as it came, and k_c times what P's own links gathered, so energy is
-// conserved exactly and each link's light is shared out once, by its own geometry,
-// one level below its receiver. (Weighing P's inherited irradiance by k_c as well
-// over-corrected: the empty box came out 1.9 % low, since P's own links and its
-// ancestors' reach its children with different profiles.) Children of clusters and
-// of elements without links get 1. The weights are recomputed after each refinement
-// stage.
+// So each surface child c of a surface element P gets a weight k_c, the share of P's
+// irradiance it receives relative to P's mean: the form factors from c's centre to the
+// sources of the links of P's surface chain (P's own and those of its surface
+// ancestors up to its input polygon), times each link's visibility and its source's
+// radiosity (frozen during refinement), scaled so that the open-area mean of k over
+// P's children is 1. The push gives c its own irradiance, what P inherited from the
+// clusters above its polygon as it came, and k_c times what P's surface chain gathered
+// (P's own links and what it inherited from its surface ancestors), so energy is
+// conserved exactly and every link's light is shared out by its own geometry at every
+// level below its receiver down to the leaves. Weights from P's own links alone,
+// applied to what P's own links gathered, left a corner leaf with its ancestors' mean
+// two and three levels up: 80 % of the empty furnace room's area had a row sum within
+// 0.97-1.03, and now all of it (the cluttered furnace: 63 % -> 79 %). Children of
+// clusters and of elements whose chain has no link get 1. The weights are recomputed
+// after each refinement stage.
+//
+// A surface source farther than a few of its radii from a child is weighed by the
+// differential form factor (within about 1/9 of the exact one there), the nearer ones
+// by the exact point-to-polygon value; the normalisation takes out what is common to
+// all children. On builtin:office the chains hold 251 k links (72 k own links) per
+// iteration, one evaluation per child and link.
 #pragma once
 
 #include "core/element.h"
@@ -35,9 +43,28 @@ namespace hrad {
 
 class Transport;
 
-/// Sets push_weight of every child of every element in `elements` (all of the
-/// hierarchy's elements, parents before children or not). Uses `threads` threads.
+/// Both sets of push weights of every surface child, made in one pass (the form
+/// factors are the same, only the sources' radiosities differ): by light, each source
+/// counting with its radiosity (for the propagation), and by geometry, every source
+/// counting 1 (for row sums, core/row_sums.h, which measure transport). Without light
+/// anywhere both are geometric.
+class PushWeights {
+ public:
+  /// Computes both sets for `elements` (all of the hierarchy's elements, in any order)
+  /// on `threads` threads and applies the geometric one. The hierarchy's children
+  /// must not change before the last apply().
+  void update(const std::vector<Element*>& elements, const Transport& transport, int threads);
+  /// Writes one set into every child's push_weight.
+  void apply(bool geometric) const;
+
+ private:
+  std::vector<Element*> parents_;    ///< elements with children
+  std::vector<std::size_t> offset_;  ///< parents_[i]'s children: offset_[i] .. offset_[i + 1]
+  std::vector<float> light_, geometry_;
+};
+
+/// PushWeights::update followed by apply(geometric).
 void update_push_weights(const std::vector<Element*>& elements, const Transport& transport,
-                         int threads);
+                         int threads, bool geometric = false);
 
 }  // namespace hrad

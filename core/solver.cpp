@@ -256,7 +256,13 @@ RunStats Solver::run() {
     std::vector<Element*> elements = m.hierarchy.elements();
     const OpenStats open = update_open_fractions(elements, m.hierarchy, m.rays, o.seed, o.threads,
                                                  m.effects.visibility.on);
-    update_push_weights(elements, m.transport, o.threads);
+    // Row sums measure transport, so their push shares it by geometry; the
+    // propagation's push shares light, by the sources' radiosities. A rescale of the
+    // row sums (clamp, normalize) must act on the propagation's own operator, so it
+    // measures them with the light weights (in a furnace, normalize is then exact).
+    PushWeights push_weights;
+    push_weights.update(elements, m.transport, o.threads);
+    if (m.row_sum_mode != RowSumMode::Keep) push_weights.apply(false);
     is.rays_cast += open.rays_cast;
     is.open_rays = open.rays_cast;
     is.open_area_fraction = open.area_fraction;
@@ -268,6 +274,7 @@ RunStats Solver::run() {
     is.row_sum_mean = rs.area_mean;
     is.row_sum_within_band = rs.within_band;
     is.row_sum_corrected = rs.corrected;
+    push_weights.apply(false);
     // Every task was a reloaded link accepted again (no link created, none split): the
     // link set is the previous iteration's, and the next iterations would repeat this
     // one (up to an oracle decision that the radiosity's last digits could flip). So it

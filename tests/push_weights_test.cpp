@@ -96,10 +96,29 @@ TEST(PushWeights, AdjacentWallFavoursTheNearChildren) {
   }
   EXPECT_GT(hi, 1.4);
   EXPECT_LT(lo, 0.6);
-  // Children of an element without links, and of clusters, get 1.
-  const auto grandkids = room.h.subdivide(kids[0], 0, room.locks);
+  // Below the linked element its links go on shaping the shares: the floor's links are
+  // in the chain of kids[0], which has none of its own, so kids[0]'s children are
+  // weighed by their own centres' form factors to the wall relative to their siblings
+  // (before, they got 1 and a leaf in the corner kept its ancestors' mean).
+  Element& quarter = kids[0];
+  const auto grandkids = room.h.subdivide(quarter, 0, room.locks);
   update_push_weights(room.h.elements(), room.transport, 1);
-  for (const Element& g : grandkids) EXPECT_EQ(g.push_weight, 1.0f);
+  double mean_g = 0;
+  for (const Element& g : grandkids)
+    mean_g += g.area * room.transport.form_factor_from_point(g.center, g.normal, *side) /
+              quarter.area;
+  EXPECT_NEAR(area_weighted_sum(grandkids), quarter.area, 1e-6 * quarter.area);
+  for (const Element& g : grandkids)
+    EXPECT_NEAR(g.push_weight,
+                room.transport.form_factor_from_point(g.center, g.normal, *side) / mean_g, 1e-5);
+  // Children of an element with no link on it or on a surface ancestor, and of
+  // clusters, get 1.
+  Element* other = nullptr;
+  for (Element* e : w)
+    if (e != &floor && e != side) other = e;
+  const auto unlinked = room.h.subdivide(*other, 0, room.locks);
+  update_push_weights(room.h.elements(), room.transport, 1);
+  for (const Element& c : unlinked) EXPECT_EQ(c.push_weight, 1.0f);
   for (Element* e : room.h.elements())
     if (e->is_cluster())
       for (const Element& c : e->child_span()) EXPECT_EQ(c.push_weight, 1.0f);

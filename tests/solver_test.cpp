@@ -92,10 +92,11 @@ TEST(SolverFurnace, RawTransportConservesEnergyOnAverage) {
 // At default settings (no row-sum rescale) the furnace of builtin:furnace at rho 0.9,
 // a closed room with a cube and an octahedron floating in it, and the same room
 // empty: the mean leaf row sum is 1 to 1e-3 and the area-weighted mean radiosity is
-// within 2 % of E / (1 - rho) = 10. Before push weights (core/push_weights.h) the
-// leaves' row sums spread over 0.83-1.44 (a corner leaf inherited its ancestors'
-// mean form factor to the nearby walls), which 1 / (1 - rho S) turned into a surplus
-// of 4.3 % (room with objects) and 4.7 % (empty room).
+// within 1 % of E / (1 - rho) = 10 (measured -0.5 % and -0.2 %). Before push weights
+// (core/push_weights.h) the leaves' row sums spread over 0.83-1.44 (a corner leaf
+// inherited its ancestors' mean form factor to the nearby walls), which 1 / (1 - rho S)
+// turned into a surplus of 4.3 % (room with objects) and 4.7 % (empty room); with push
+// weights from an element's own links only, +1.0 % and +1.4 %.
 TEST(SolverFurnace, DefaultSettingsConserveEnergy) {
   for (const char* spec : {"builtin:furnace?rho=0.9", "builtin:furnace?rho=0.9&objects=0"}) {
     const Scene scene = make_builtin(spec);
@@ -104,10 +105,33 @@ TEST(SolverFurnace, DefaultSettingsConserveEnergy) {
     EXPECT_NEAR(st.iterations.back().row_sum_mean, 1.0, 1e-3) << spec;
     const auto leaves = s.leaves();
     expect_finite_nonnegative(leaves);
-    EXPECT_NEAR(area_mean(leaves), 10.0, 0.02 * 10.0) << spec;
+    EXPECT_NEAR(area_mean(leaves), 10.0, 0.01 * 10.0) << spec;
     std::printf("%s: area-mean radiosity %.4f (exact 10), row sums %.3f-%.3f\n", spec,
                 area_mean(leaves), st.iterations.back().row_sum_min,
                 st.iterations.back().row_sum_max);
+  }
+}
+
+// Issue 13's row-sum distribution: in a closed room every open leaf sees geometry over
+// its whole hemisphere, so its row sum (own and inherited links) should be 1. At the
+// defaults, the share of the open area within 0.97-1.03: the empty furnace room at
+// least 99 % (measured 100 %, every leaf within 0.982-1.016), the room with a floating
+// cube and octahedron at least 98 % (measured 98.9 %). With push weights from an
+// element's own links only these were 80 % and 79 % (corner and edge leaves 2-14 %
+// high, their neighbours a few percent low).
+TEST(SolverFurnace, RowSumsOfAClosedRoomAreOneAtTheDefaults) {
+  {
+    const Scene scene = make_builtin("builtin:furnace?rho=0.9&objects=0");
+    Solver s(scene, SolverOptions{});
+    const IterationStats it = s.run().iterations.back();
+    EXPECT_GE(it.row_sum_within_band, 0.99);
+    EXPECT_GT(it.row_sum_min, 0.97);
+    EXPECT_LT(it.row_sum_max, 1.03);
+  }
+  {
+    const Scene scene = make_builtin("builtin:furnace?rho=0.9");
+    Solver s(scene, SolverOptions{});
+    EXPECT_GE(s.run().iterations.back().row_sum_within_band, 0.98);
   }
 }
 
@@ -116,11 +140,13 @@ TEST(SolverFurnace, DefaultSettingsConserveEnergy) {
 // Every open point has irradiance E / (1 - rho) = 2 (rho 0.5) or 10 (rho 0.9).
 // Probes on open faces (room walls away from the boxes, tops and sides of floating
 // and standing boxes, both faces of a floating plate, the cube in the gap): their mean
-// within 2 % (measured -0.5 % at rho 0.5, -0.9 % at rho 0.9), each within 5 % / 10 %
-// (the worst: -3.6 % and -7.7 %). Before faces in contact were kept out of the energy
-// books and straddling pairs refined, random probes were 2.7 % and 13.6 % low on
-// average; before push weights and occluded cluster links weighed, these probes' mean
-// was -1.9 % and -2.2 % and the worst -10 %. Issue 13's target, 1 % each, is not met.
+// within 1.5 % (measured -0.25 % at rho 0.5, -1.1 % at rho 0.9), each within 3 % / 5 %
+// (the worst: +2.1 % and -3.1 %; with push weights from an element's own links only
+// the mean was -0.5 % / -0.9 % and the worst -3.6 % / -7.7 %). Before faces in contact
+// were kept out of the energy books and straddling pairs refined, random probes were
+// 2.7 % and 13.6 % low on average; before push weights and occluded cluster links
+// weighed, these probes' mean was -1.9 % and -2.2 % and the worst -10 %. Issue 13's
+// target, 1 % each, is not met.
 TEST(SolverFurnace, ClutteredFurnaceAtDefaults) {
   const std::vector<Probe> probes = {
       {{0.2, 0.8, 1e-4}, {0, 0, 1}},    {{0.5, 0.5, 1 - 1e-4}, {0, 0, -1}},  // z walls
@@ -143,11 +169,11 @@ TEST(SolverFurnace, ClutteredFurnaceAtDefaults) {
     const std::vector<Rgb> e = s.probe_irradiance(probes);
     double mean = 0, worst = 0;
     for (std::size_t i = 0; i < e.size(); ++i) {
-      EXPECT_NEAR(e[i][0], exact, (rho < 0.7 ? 0.05 : 0.10) * exact) << "probe " << i << " rho " << rho;
+      EXPECT_NEAR(e[i][0], exact, (rho < 0.7 ? 0.03 : 0.05) * exact) << "probe " << i << " rho " << rho;
       mean += e[i][0] / static_cast<double>(e.size());
       if (std::abs(e[i][0] / exact - 1) > std::abs(worst)) worst = e[i][0] / exact - 1;
     }
-    EXPECT_NEAR(mean, exact, 0.02 * exact) << "rho " << rho;
+    EXPECT_NEAR(mean, exact, 0.015 * exact) << "rho " << rho;
     std::printf("cluttered furnace rho %.1f: mean probe irradiance %.4f (exact %.4f), worst %+.2f %%\n",
                 rho, mean, exact, 100 * worst);
   }
