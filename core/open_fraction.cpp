@@ -32,6 +32,24 @@ bool first_hit_is_back(const Vec3& at, const Vec3& dir, std::uint32_t own, const
   return twin && h.face_normal(twin->prim).dot(dir) > 0;
 }
 
+// Whether another face lies in the point's own plane facing it: the two faces of a
+// contact where each solid has its own face (a box's bottom on the floor). Each sees
+// the other at distance zero, which the rays' end-point exclusion skips; past it the
+// floor under the box meets the box's inside (a back face: closed in), but the box's
+// bottom sees only the void under the floor and counted as open. It then gathered
+// light as a member of its box's cluster and showed it to the floor beside the box:
+// with the bottoms closed in, the cluttered furnace's median error at 32 random probes
+// went from 0.94 % to 0.26 % and its bias from -0.8 % to +0.2 % (rho 0.9). One short
+// ray along the normal through the point's plane, from just behind it, finds such a
+// twin. Adds the ray to `cast`.
+bool facing_twin(const Vec3& at, const Vec3& n, std::uint32_t own, const Hierarchy& h,
+                 const RayScene& rays, std::uint64_t& cast) {
+  ++cast;
+  const double reach = 4 * RayScene::kEndpointEpsilon * rays.scale();
+  const auto hit = rays.intersect(at - reach * n, n, 2 * reach, own);
+  return hit && h.face_normal(hit->prim).dot(n) < 0;
+}
+
 }  // namespace
 
 double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, const RayScene& rays,
@@ -48,6 +66,7 @@ double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, cons
     const double u1 = (p % kSide + hashed_uniform(key, i)) / kSide;
     const double u2 = (p / kSide + hashed_uniform(key, i + 1)) / kSide;
     const Vec3 at = hierarchy.sample_point(e, u1, u2, hashed_uniform(key, i + 2));
+    if (facing_twin(at, e.normal, e.face, hierarchy, rays, cast)) continue;  // in contact
     int back = 0;
     // Stop once the majority is decided (most points: after two rays).
     for (int k = 0; k < kOpenRays && 2 * back <= kOpenRays && 2 * (k - back) <= kOpenRays; ++k) {

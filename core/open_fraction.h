@@ -24,7 +24,10 @@
 // finds the point open; so open-ended geometry seen from outside (the inside of a
 // tube) does not close a point in. A surface coincident with the point's own face
 // (the two faces of a contact) is skipped by the ray's end-point exclusion, which is
-// what lets the ray reach the solid's inside.
+// what lets the ray reach the solid's inside; but a face in the point's own plane that
+// faces it (a box's bottom and the floor it stands on) closes the point in at once,
+// found by one short ray along the normal (the bottom would otherwise see the void
+// under the floor and count as open).
 #pragma once
 
 #include "core/element.h"
@@ -60,8 +63,8 @@ OpenStats update_open_fractions(const std::vector<Element*>& elements,
                                 std::uint64_t seed, int threads, bool possible);
 
 /// The estimate for one surface element, in [0, 1]; adds the rays it cast to
-/// `rays_cast` when given (kOpenPoints x kOpenRays, and one more for every front hit,
-/// which is checked for a coincident back face).
+/// `rays_cast` when given (a contact ray per point, then up to kOpenRays per point and
+/// one more for every front hit, which is checked for a coincident back face).
 double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, const RayScene& rays,
                               std::uint64_t seed, std::uint64_t* rays_cast = nullptr);
 

@@ -1,5 +1,8 @@
 #include "core/scene_builder.h"
 
+#include <algorithm>
+#include <cstring>
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -89,6 +92,25 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
     ++(area > 0 ? sliver_faces_ : degenerate_faces_);
     return;
   }
+  // The same polygon again (McGuire's Cornell box repeats a side face of each block
+  // under a "Bottom Face" comment): both copies would reflect and emit, doubling that
+  // face's light (the blocks' probes near the floor came out 8-11 % too bright). The
+  // reversed order is another polygon: the other side of a sheet.
+  std::size_t first = 0;
+  for (std::size_t i = 1; i < p.size(); ++i)
+    if (std::lexicographical_compare(p[i].data(), p[i].data() + 3, p[first].data(),
+                                     p[first].data() + 3))
+      first = i;
+  std::vector<double> key;
+  key.reserve(3 * p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3& x = p[(first + i) % p.size()];
+    key.insert(key.end(), {x.x(), x.y(), x.z()});
+  }
+  if (!seen_.insert(std::move(key)).second) {
+    ++duplicate_faces_;
+    return;
+  }
   if (idx.size() == 3) {
     emit_face(idx, material);
   } else if (relative_nonplanarity(p) <= kPlanarTolerance && is_convex(p)) {
@@ -169,6 +191,17 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
   for (std::size_t k = 1; k + 1 < ring.size(); ++k) add_tri(ring[0], ring[k], ring[k + 1]);
 }
 
+std::size_t PositionsHash::operator()(const std::vector<double>& v) const noexcept {
+  std::size_t h = v.size();
+  for (double x : v) {
+    const double y = x == 0 ? 0.0 : x;  // -0 and +0 are the same position
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &y, sizeof bits);
+    h ^= std::hash<std::uint64_t>{}(bits) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  }
+  return h;
+}
+
 Scene SceneBuilder::finish(const std::string& file) {
   if (defaulted_faces_ > 0)
     warn(fmt::format("{} face(s) named no material and got the default grey (0.5)",
@@ -179,6 +212,11 @@ Scene SceneBuilder::finish(const std::string& file) {
     warn(fmt::format("{} sliver face(s) dropped (area below 1e-12 of the squared edge lengths: "
                      "too thin for a reliable normal)",
                      sliver_faces_));
+  if (duplicate_faces_ > 0)
+    warn(fmt::format("{} duplicate face(s) dropped (the same vertices in the same order as an "
+                     "earlier face: a coincident copy would reflect and emit the same light "
+                     "twice)",
+                     duplicate_faces_));
   if (triangulated_faces_ > 0)
     warn(fmt::format("{} non-planar or non-convex polygon(s) triangulated", triangulated_faces_));
   if (scene_.faces.empty()) throw InputError(file, 0, "the scene has no polygon with positive area");

@@ -10,6 +10,8 @@
 
 #include <span>
 #include <string>
+#include <unordered_set>
+#include <vector>
 
 namespace hrad {
 
@@ -25,6 +27,11 @@ struct SourceLoc {
 /// exit 0 and wrote inf into solution.ply.)
 inline constexpr double kMaxExitance = 1e30;
 
+/// Hash of a polygon's flattened vertex coordinates (SceneBuilder's duplicate test).
+struct PositionsHash {
+  std::size_t operator()(const std::vector<double>& v) const noexcept;
+};
+
 class SceneBuilder {
  public:
   SceneBuilder(std::string name, std::string source);
@@ -38,7 +45,9 @@ class SceneBuilder {
   /// and counted in a warning.
   std::uint32_t default_material();
   /// A polygon by indices into the vertices added so far. Throws on an index out of
-  /// range or fewer than 3 vertices; drops zero-area faces (counted); triangulates
+  /// range or fewer than 3 vertices; drops zero-area faces (counted) and copies of an
+  /// earlier polygon (the same vertex positions in the same cyclic order, counted:
+  /// a coincident copy would reflect and emit its light twice); triangulates
   /// non-planar or non-convex polygons (counted).
   void add_polygon(std::span<const std::uint32_t> idx, std::uint32_t material, const SourceLoc& at);
   /// Convenience for generated geometry: adds the vertices, then the polygon.
@@ -62,6 +71,10 @@ class SceneBuilder {
   std::size_t degenerate_faces_ = 0;
   std::size_t sliver_faces_ = 0;
   std::size_t triangulated_faces_ = 0;
+  std::size_t duplicate_faces_ = 0;
+  /// Each polygon's vertex positions, rotated to start at the smallest (x, y, z), in
+  /// its own cyclic order: the key of the duplicate test.
+  std::unordered_set<std::vector<double>, PositionsHash> seen_;
 };
 
 }  // namespace hrad

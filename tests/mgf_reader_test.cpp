@@ -305,8 +305,9 @@ TEST(MgfTransform, RepeatAndMultiDimensionalArrays) {
   EXPECT_EQ(s.faces.size(), 6u);
   EXPECT_NEAR(s.bounds().hi.x(), 6, 1e-12);
   EXPECT_NEAR(s.bounds().hi.y(), 11, 1e-12);
-  // Arrays nest through xf contexts; entities after the array run once.
-  s = parse(tri + "xf -a 2 -t 0 0 1\nxf -a 2 -t 3 0 0\nf a b d\nxf\nxf\nf a b d\n");
+  // Arrays nest through xf contexts; entities after the array run once (the other
+  // side of the first instance's triangle: the same side again would be a duplicate).
+  s = parse(tri + "xf -a 2 -t 0 0 1\nxf -a 2 -t 3 0 0\nf a b d\nxf\nxf\nf a d b\n");
   EXPECT_EQ(s.faces.size(), 5u);
 }
 
@@ -325,8 +326,9 @@ TEST(MgfContexts, RedefinitionTemplatesAndDefaults) {
   EXPECT_NEAR(s.face_vertices(1)[0].z(), 5, 1e-12);
   // A material changed after use becomes a second Scene material; reselecting an
   // unchanged one does not.
+  // (Four different triangles: a copy of an earlier polygon would be dropped.)
   s = parse("m g =\n rd 0.5\nm h = g\nv a =\n p 0 0 0\nv b =\n p 1 0 0\nv d =\n p 0 1 0\n"
-            "m g\nf a b d\nm h\nf a b d\nm g\nf a b d\n rd 0.25\nf a b d\n");
+            "v e =\n p 1 1 0\nm g\nf a b d\nm h\nf a d b\nm g\nf b e d\n rd 0.25\nf b d e\n");
   ASSERT_EQ(s.faces.size(), 4u);
   EXPECT_EQ(s.faces[0].material, s.faces[2].material);
   EXPECT_EQ(s.face_material(1).name, "h");

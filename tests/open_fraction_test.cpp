@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace hrad {
 namespace {
 
@@ -65,6 +67,29 @@ TEST(OpenFraction, FloorUnderABoxIsClosedInAndOpenElsewhere) {
   const OpenStats none = update_open_fractions(all, h, rays, 1, 1, false);
   EXPECT_EQ(none.rays_cast, 0u);
   for (const Element* e : all) ASSERT_EQ(e->open, 1.0f);
+}
+
+// The bottom face of the box standing in the floor's corner lies in the floor's plane
+// facing it: both are in contact, so the bottom is closed in (w = 0). Its rays see
+// only the void under the floor: before the contact ray it counted as open (w = 1).
+// The underside of a floating box (at y = 0.40 over (0.16, 0.16)) stays open.
+TEST(OpenFraction, ABoxBottomOnTheFloorIsClosedInAFloatingOneOpen) {
+  const Scene scene = make_builtin("builtin:furnace?objects=2");
+  Hierarchy h(scene, 1);
+  const RayScene rays = RayScene::from_scene(scene);
+  const Element* standing = nullptr;
+  const Element* floating = nullptr;
+  for (const Element* e : h.elements()) {
+    if (e->is_cluster() || e->depth != 0 || e->normal.y() > -0.99) continue;
+    if (std::abs(e->center.y()) < 1e-9 && e->center.x() > 0.8 && e->center.z() > 0.8) standing = e;
+    if (std::abs(e->center.y() - 0.40) < 1e-6 && std::abs(e->center.x() - 0.16) < 0.05 &&
+        std::abs(e->center.z() - 0.16) < 0.05)
+      floating = e;
+  }
+  ASSERT_NE(standing, nullptr);
+  ASSERT_NE(floating, nullptr);
+  EXPECT_EQ(estimate_open_fraction(*standing, h, rays, 1), 0.0);
+  EXPECT_EQ(estimate_open_fraction(*floating, h, rays, 1), 1.0);
 }
 
 }  // namespace

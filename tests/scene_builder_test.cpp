@@ -97,6 +97,31 @@ TEST(SceneBuilder, CallsSliversSlivers) {
   EXPECT_NE(s.warnings[0].find("1 sliver face(s) dropped"), std::string::npos) << s.warnings[0];
 }
 
+// A polygon repeating an earlier one (the same positions in the same cyclic order,
+// from any starting vertex, by other vertex indices or through -0) is dropped and
+// counted: both copies would reflect and emit. The reverse order (the other side of a
+// sheet) and a shifted copy are other polygons.
+TEST(SceneBuilder, DropsAndCountsDuplicateFaces) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  const std::vector<Vec3> sq = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const std::vector<Vec3> rotated = {{1, 1, 0}, {0, 1, 0}, {-0.0, 0, 0}, {1, 0, 0}};
+  const std::vector<Vec3> reversed = {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}};
+  const std::vector<Vec3> shifted = {{0, 0, 1e-9}, {1, 0, 1e-9}, {1, 1, 1e-9}, {0, 1, 1e-9}};
+  b.add_polygon(sq, m, kHere);
+  b.add_polygon(sq, m, kHere);
+  b.add_polygon(rotated, m, kHere);
+  b.add_polygon(reversed, m, kHere);
+  b.add_polygon(shifted, m, kHere);
+  const std::uint32_t same[4] = {0, 1, 2, 3};  // the first polygon's own vertices again
+  b.add_polygon(same, m, kHere);
+  const Scene s = b.finish("f");
+  EXPECT_EQ(s.faces.size(), 3u);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("3 duplicate face(s) dropped"), std::string::npos) << s.warnings[0];
+  EXPECT_DOUBLE_EQ(s.total_area(), 3.0);
+}
+
 TEST(SceneBuilder, RejectsBadVerticesWithFileAndLine) {
   SceneBuilder b("t", "t");
   try {
