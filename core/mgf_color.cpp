@@ -1,9 +1,12 @@
-// CIE xyY -> linear RGB (Rec. 709 primaries, equal-energy white); see mgf_color.h.
+// CIE xyY -> linear RGB (Rec. 709 primaries, equal-energy white) and the gamut
+// mapping towards equal-luminance grey; see mgf_color.h.
 #include "core/mgf_color.h"
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hrad {
 
@@ -23,12 +26,18 @@ Eigen::Matrix3d make_xyz_to_rgb() {
   return rgb_to_xyz.inverse();
 }
 
+// Relative size of round-off that is clamped silently (a primary's other channels
+// come out as +-1e-17, not 0).
+constexpr double kRoundOff = 1e-9;
+
 }  // namespace
 
 Eigen::Matrix3d xyz_to_linear_rgb_matrix() {
   static const Eigen::Matrix3d m = make_xyz_to_rgb();
   return m;
 }
+
+bool is_mgf_chromaticity(double x, double y) { return x >= 0 && y >= 0 && x + y <= 1; }
 
 bool is_equal_energy_grey(double x, double y) {
   return std::abs(x - 1.0 / 3.0) <= kGreyTolerance && std::abs(y - 1.0 / 3.0) <= kGreyTolerance;
@@ -38,6 +47,28 @@ Rgb xyY_to_linear_rgb(double x, double y, double Y) {
   if (is_equal_energy_grey(x, y)) return Rgb::Constant(Y);
   const Eigen::Vector3d xyz(x * Y / y, Y, (1.0 - x - y) * Y / y);
   return (xyz_to_linear_rgb_matrix() * xyz).array();
+}
+
+GamutRgb xyY_to_gamut_rgb(double x, double y, double Y, double upper) {
+  if (!(Y > 0)) return {};
+  if (is_equal_energy_grey(x, y)) return {Rgb::Constant(Y), false};
+  if (y > 0) {
+    const Rgb c = xyY_to_linear_rgb(x, y, Y);
+    const double tol = kRoundOff * c.abs().maxCoeff();
+    if (c.allFinite() && (c >= -tol).all() && (c <= upper + kRoundOff * upper).all())
+      return {c.max(0.0).min(upper), false};
+  }
+  // c - g = (Y / y) u with u = M (x - y, 0, z - y): finite, of zero luminance, and
+  // defined for y = 0 too (where Y / y is infinite).
+  const double z = 1.0 - x - y;
+  const Eigen::Vector3d u = xyz_to_linear_rgb_matrix() * Eigen::Vector3d(x - y, 0.0, z - y);
+  double s = y > 0 ? Y / y : std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    if (u[i] < 0) s = std::min(s, Y / -u[i]);
+    else if (u[i] > 0) s = std::min(s, (upper - Y) / u[i]);  // +inf for emission
+  }
+  const Rgb out = (Rgb::Constant(Y) + s * u.array()).max(0.0).min(upper);
+  return {out, true};
 }
 
 }  // namespace hrad

@@ -3,6 +3,7 @@
 // SceneBuilder. Entity table and conventions: mgf_reader.h.
 #include "core/mgf_reader.h"
 
+#include "core/cie_observer.h"
 #include "core/mgf_color.h"
 #include "core/mgf_context.h"
 #include "core/mgf_shapes.h"
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -31,6 +33,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using Args = std::span<const std::string_view>;
+
+// cct below this is refused, as by the MGF parser library (its black-body routine
+// rejects T < 1000 K).
+constexpr double kMgfMinKelvin = 1000.0;
 
 // One entity: a physical line plus those joined to it by a backslash-newline.
 struct Entity {
@@ -139,6 +145,11 @@ class MgfParser {
   void charge(std::int64_t n, const SourceLoc& at);
 
   void colour_entity(Args t, const SourceLoc& at);
+  MgfColour spectrum_colour(Args t, const SourceLoc& at);
+  MgfColour mixed_colour(Args t, const SourceLoc& at);
+  // The colour of a spectrum's XYZ; InputError "kw: empty" when it has no light.
+  static MgfColour xyz_colour(const Eigen::Vector3d& xyz, const SourceLoc& at,
+                              std::string_view kw, std::string_view empty);
   void material_entity(Args t, const SourceLoc& at);
   void face(Args names, const SourceLoc& at);
   void primitive(Args t, const SourceLoc& at);
@@ -148,9 +159,6 @@ class MgfParser {
   }
   std::uint32_t vertex_index(std::string_view name, const SourceLoc& at);
   std::uint32_t material(const SourceLoc& at);
-  Rgb unit_rgb(const MgfColour& c) const {
-    return c.grey ? Rgb::Ones() : xyY_to_linear_rgb(c.x, c.y, 1.0);
-  }
   Affine world() const { return xf_.empty() ? Affine::Identity() : xf_.back().world; }
   bool mirrored() const { return !xf_.empty() && xf_.back().mirrored; }
   std::uint64_t xf_id() const { return xf_.empty() ? 0 : xf_.back().id; }
@@ -173,8 +181,9 @@ class MgfParser {
   int object_depth_ = 0;
   // Counted warnings.
   std::map<std::string, std::size_t, std::less<>> unknown_;
-  std::size_t spectra_ignored_ = 0, specular_ignored_ = 0, unmatched_o_ = 0, unclosed_xf_ = 0;
-  std::size_t clamped_reflectance_ = 0, clamped_emission_ = 0;
+  std::size_t specular_ignored_ = 0, unmatched_o_ = 0, unclosed_xf_ = 0;
+  // Scene materials whose reflectance / emission colour was gamut-mapped.
+  std::size_t mapped_reflectance_ = 0, mapped_emission_ = 0;
 };
 
 void need(Args t, std::size_t n, const SourceLoc& at, std::string_view usage) {
@@ -306,8 +315,9 @@ void MgfParser::entity(Args t, const SourceLoc& at, const Source& src, int depth
     include(t, at, src, depth);
   } else if (kw == "ies") {
     throw InputError(at.file, at.line,
-                     "ies: IES luminaire files are not supported; describe the luminaire as "
-                     "MGF geometry with an emitting (ed) material");
+                     "ies: goniometric (IES LM-63) luminaires are not supported: hrad's "
+                     "emitters are ideal diffuse; describe the luminaire as MGF geometry with "
+                     "an emitting (ed) material");
   } else {
     ++unknown_[std::string(kw)];
   }
@@ -366,43 +376,95 @@ void MgfParser::colour_entity(Args t, const SourceLoc& at) {
   if (kw == "cxy") {
     need(t, 2, at, "cxy x y");
     const double x = number(t[1], at, kw), y = number(t[2], at, kw);
-    if (!(x > 0 && y > 0 && x + y < 1))
+    if (!is_mgf_chromaticity(x, y))
       throw InputError(at.file, at.line,
-                       fmt::format("cxy: ({}, {}) is not a chromaticity (need x > 0, y > 0, "
-                                   "x + y < 1)",
+                       fmt::format("cxy: ({}, {}) is not a chromaticity (need x >= 0, y >= 0, "
+                                   "x + y <= 1)",
                                    x, y));
     c = MgfColour{x, y, is_equal_energy_grey(x, y)};
-  } else if (kw == "cspec" || kw == "cct") {
-    if (kw == "cct") {
-      need(t, 1, at, "cct temperature");
-      if (!(number(t[1], at, kw) > 0))
-        throw InputError(at.file, at.line, "cct: the temperature must be positive");
-    } else {
-      if (t.size() < 4)
-        throw InputError(at.file, at.line, "cspec: expected 'cspec l_min l_max v1 v2 ...'");
-      for (std::size_t i = 1; i < t.size(); ++i) number(t[i], at, kw);
-    }
-    c = MgfColour{};
-    ++spectra_ignored_;
-  } else {  // cmix w1 c1 w2 c2 ...: weights are luminances, so mix in XYZ
-    if (t.size() < 3 || t.size() % 2 == 0)
-      throw InputError(at.file, at.line, "cmix: expected 'cmix w1 c1 w2 c2 ...'");
-    Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
-    bool grey = true;
-    for (std::size_t i = 1; i + 1 < t.size(); i += 2) {
-      const double w = number(t[i], at, kw);
-      if (w < 0) throw InputError(at.file, at.line, "cmix: a weight is negative");
-      const MgfColour& ci = colours_.get(t[i + 1], at).value;
-      xyz += w * Eigen::Vector3d(ci.x / ci.y, 1.0, (1.0 - ci.x - ci.y) / ci.y);
-      grey = grey && ci.grey;
-    }
-    const double sum = xyz.sum();
-    if (!(xyz.y() > 0) || !std::isfinite(sum))
-      throw InputError(at.file, at.line, "cmix: the weights sum to zero or overflow");
-    c = MgfColour{xyz.x() / sum, xyz.y() / sum, grey || is_equal_energy_grey(xyz.x() / sum,
-                                                                            xyz.y() / sum)};
+  } else if (kw == "cspec") {
+    c = spectrum_colour(t, at);
+  } else if (kw == "cct") {
+    need(t, 1, at, "cct temperature");
+    const double k = number(t[1], at, kw);
+    if (!(k >= kMgfMinKelvin))
+      throw InputError(at.file, at.line,
+                       fmt::format("cct: {} K is below {} K (the MGF parser's lowest "
+                                   "black-body temperature)",
+                                   k, kMgfMinKelvin));
+    c = xyz_colour(blackbody_xyz(k), at, kw, "no usable black-body spectrum");
+  } else {
+    c = mixed_colour(t, at);
   }
   colours_.touch();
+}
+
+// cspec l_min l_max v1 .. vN (cie_observer.h): N >= 2 non-negative values, not all
+// zero, evenly spaced over 0 < l_min < l_max nm; only 360..830 nm is seen.
+MgfColour MgfParser::spectrum_colour(Args t, const SourceLoc& at) {
+  const std::string_view kw = t[0];
+  if (t.size() < 5)
+    throw InputError(at.file, at.line,
+                     "cspec: expected 'cspec l_min l_max v1 v2 ...' (at least 2 values)");
+  const double lo = number(t[1], at, kw), hi = number(t[2], at, kw);
+  if (!(lo > 0 && lo < hi))
+    throw InputError(at.file, at.line,
+                     fmt::format("cspec: need 0 < l_min < l_max (got {} and {} nm)", lo, hi));
+  std::vector<double> v;
+  v.reserve(t.size() - 3);
+  for (std::size_t i = 3; i < t.size(); ++i) {
+    v.push_back(number(t[i], at, kw));
+    if (v.back() < 0)
+      throw InputError(at.file, at.line,
+                       fmt::format("cspec: value {} ({}) is negative", i - 2, v.back()));
+  }
+  return xyz_colour(spectrum_to_xyz(lo, hi, v), at, kw,
+                    "the spectrum has no power between 360 and 830 nm");
+}
+
+MgfColour MgfParser::xyz_colour(const Eigen::Vector3d& xyz, const SourceLoc& at,
+                                std::string_view kw, std::string_view empty) {
+  const double sum = xyz.sum();
+  if (!xyz.allFinite() || !std::isfinite(sum))
+    throw InputError(at.file, at.line, fmt::format("{}: the colour's CIE XYZ overflows", kw));
+  if (!(sum > 0) || !(xyz.minCoeff() >= 0))
+    throw InputError(at.file, at.line, fmt::format("{}: {}", kw, empty));
+  const double x = xyz.x() / sum, y = xyz.y() / sum;
+  return MgfColour{x, y, is_equal_energy_grey(x, y)};
+}
+
+// cmix w1 c1 w2 c2 ...: the weights are luminances (MGF: "relative photometric
+// brightness"), so the mix is the sum of each colour's XYZ at luminance w_i,
+// w_i (x_i, y_i, z_i) / y_i. That is exact for spectral colours too (XYZ is linear in
+// the spectrum; the MGF parser's own spectral mixing normalises each spectrum to its
+// luminance the same way). A colour with y_i = 0 and w_i > 0 has infinite XYZ: the
+// limit (all such y_i -> 0 together) is the w_i-weighted sum of their (x_i, 0, z_i)
+// alone, again a y = 0 colour.
+MgfColour MgfParser::mixed_colour(Args t, const SourceLoc& at) {
+  const std::string_view kw = t[0];
+  if (t.size() < 3 || t.size() % 2 == 0)
+    throw InputError(at.file, at.line, "cmix: expected 'cmix w1 c1 w2 c2 ...'");
+  Eigen::Vector3d finite = Eigen::Vector3d::Zero(), unbounded = Eigen::Vector3d::Zero();
+  bool grey = true;
+  for (std::size_t i = 1; i + 1 < t.size(); i += 2) {
+    const double w = number(t[i], at, kw);
+    if (w < 0) throw InputError(at.file, at.line, "cmix: a weight is negative");
+    const MgfColour& ci = colours_.get(t[i + 1], at).value;
+    grey = grey && ci.grey;
+    if (w == 0) continue;
+    const Eigen::Vector3d xyz(ci.x, ci.y, std::max(0.0, 1.0 - ci.x - ci.y));
+    if (ci.y > 0) {
+      finite += (w / ci.y) * xyz;
+    } else {
+      unbounded += w * xyz;
+    }
+  }
+  const Eigen::Vector3d& xyz = unbounded.sum() > 0 ? unbounded : finite;
+  const double sum = xyz.sum();
+  if (!(sum > 0) || !std::isfinite(sum))
+    throw InputError(at.file, at.line, "cmix: the weights sum to zero or overflow");
+  const double x = xyz.x() / sum, y = xyz.y() / sum;
+  return MgfColour{x, y, grey || is_equal_energy_grey(x, y)};
 }
 
 void MgfParser::material_entity(Args t, const SourceLoc& at) {
@@ -454,21 +516,21 @@ std::uint32_t MgfParser::material(const SourceLoc& at) {
   if (e.built != UINT32_MAX && e.built_clock == e.clock) return e.built;
   Material m;
   m.name = e.name.empty() ? "(unnamed MGF material)" : e.name;
-  // Clamping is counted only beyond round-off (a primary's other channels come out
-  // as +-1e-17, not 0).
-  constexpr double kRoundOff = 1e-9;
-  Rgb r = e.value.rd * unit_rgb(e.value.rd_colour);
-  if ((r < -kRoundOff).any() || (r > 1 + kRoundOff).any()) ++clamped_reflectance_;
-  r = r.max(0.0).min(1.0);
-  Rgb em = e.value.ed / kMgfLumensPerWatt * unit_rgb(e.value.ed_colour);
-  if ((em < -kRoundOff * em.abs().maxCoeff()).any()) ++clamped_emission_;
-  em = em.max(0.0);
-  m.reflectance = r;
-  m.emission = em;
-  const auto key = std::make_tuple(m.name, r[0], r[1], r[2], em[0], em[1], em[2]);
+  const MgfColour& rc = e.value.rd_colour;
+  const MgfColour& ec = e.value.ed_colour;
+  const GamutRgb r = xyY_to_gamut_rgb(rc.x, rc.y, e.value.rd, 1.0);
+  const GamutRgb em = xyY_to_gamut_rgb(ec.x, ec.y, e.value.ed / kMgfLumensPerWatt,
+                                       std::numeric_limits<double>::infinity());
+  m.reflectance = r.rgb;
+  m.emission = em.rgb;
+  const auto key = std::make_tuple(m.name, r.rgb[0], r.rgb[1], r.rgb[2], em.rgb[0], em.rgb[1],
+                                   em.rgb[2]);
   auto it = material_cache_.find(key);
-  if (it == material_cache_.end())
+  if (it == material_cache_.end()) {
     it = material_cache_.emplace(key, builder_.add_material(std::move(m), at)).first;
+    mapped_reflectance_ += r.mapped ? 1 : 0;
+    mapped_emission_ += em.mapped ? 1 : 0;
+  }
   e.built = it->second;
   e.built_clock = e.clock;
   return e.built;
@@ -567,20 +629,15 @@ Scene MgfParser::finish(const std::string& file) {
     builder_.warn(fmt::format("{} unknown MGF entit{} ignored: {}", total,
                               total == 1 ? "y" : "ies", list));
   }
-  if (spectra_ignored_ > 0)
-    builder_.warn(fmt::format("{} cspec/cct colour(s) not supported: taken as neutral grey",
-                              spectra_ignored_));
   if (specular_ignored_ > 0)
     builder_.warn(fmt::format("{} td/rs/ts value(s) ignored: hrad surfaces are ideal diffuse",
                               specular_ignored_));
-  if (clamped_reflectance_ > 0)
-    builder_.warn(fmt::format("{} material(s) with a saturated colour: RGB reflectance clamped "
-                              "to [0, 1]",
-                              clamped_reflectance_));
-  if (clamped_emission_ > 0)
-    builder_.warn(fmt::format("{} material(s) with an out-of-gamut emission colour: negative "
-                              "RGB channels set to 0",
-                              clamped_emission_));
+  if (mapped_reflectance_ + mapped_emission_ > 0)
+    builder_.warn(fmt::format("{} colour(s) outside the RGB gamut ({} reflectance, {} emission) "
+                              "desaturated towards the grey of equal luminance (hue and "
+                              "luminance kept)",
+                              mapped_reflectance_ + mapped_emission_, mapped_reflectance_,
+                              mapped_emission_));
   if (unmatched_o_ > 0 || object_depth_ > 0)
     builder_.warn(fmt::format("unbalanced objects: {} 'o' end(s) without a begin, {} never ended",
                               unmatched_o_, object_depth_));

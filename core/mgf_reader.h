@@ -10,14 +10,17 @@
 // | xf [args]           | transform begin (args, see mgf_xform.h, -a arrays included) / end|
 // | i path [args]       | include, path relative to the including file's directory       |
 // |                     | (parse_mgf: to the current directory), with optional transform   |
-// | ies ...             | rejected (IES luminaires are not supported)                    |
+// | ies ...             | rejected: goniometric (IES) luminaires are not supported        |
 // | c [id [= [tmpl]]]   | colour contexts; unnamed = equal-energy grey                    |
-// | cxy x y             | CIE 1931 chromaticity (x, y > 0, x + y < 1)                     |
+// | cxy x y             | CIE 1931 chromaticity (x, y >= 0, x + y <= 1; y = 0 allowed)    |
+// | cspec lo hi v1 ..   | spectrum: >= 2 values >= 0 (not all 0), evenly spaced over      |
+// |                     | 0 < lo < hi nm, linear between; seen through 360..830 nm        |
+// | cct T               | black body (Planck) at T >= 1000 K                              |
 // | cmix w1 c1 ...      | mix of named colours, weights taken as luminances (XYZ sum)     |
-// | cspec, cct          | ignored (counted warning): the colour becomes neutral grey      |
 // | m [id [= [tmpl]]]   | material contexts; unnamed = black two-sided absorber           |
 // | rd, ed              | diffuse reflectance (0..1) / emittance (lm/m^2), with the       |
-// |                     | colour current at that moment; converted as in mgf_color.h      |
+// |                     | colour current at that moment; converted and gamut-mapped as in |
+// |                     | mgf_color.h (one counted warning for the mapped colours)        |
 // | sides {1|2}         | checked, not represented (Scene faces have no sidedness)        |
 // | td, rs, ts, ir      | checked, ignored (one counted warning)                          |
 // | v [id [= [tmpl]]]   | vertex contexts; p x y z, n dx dy dz set the current vertex     |

@@ -97,11 +97,12 @@ TEST(MgfColor, ReflectanceAndEmissionConversion) {
   s = parse("m x =\n c\n cxy 0.4 0.35\n rd 0.2\n c\n" + tri);
   EXPECT_NEAR(s.materials[0].reflectance[0], 0.2 * 1.502463, 1e-3);
   EXPECT_NEAR(s.materials[0].reflectance[2], 0.2 * 0.676385, 1e-3);
-  // A saturated red with rd 0.5 exceeds 1 in R: clamped and counted.
+  // A saturated red with rd 0.5 exceeds 1 in R: desaturated towards the grey 0.5
+  // until R = 1 (G = B = 0.5 (1 - t), t = 0.5 / 1.451411), and counted.
   s = parse("m x =\n c\n cxy 0.64 0.33\n rd 0.5\n" + tri);
-  EXPECT_EQ(s.materials[0].reflectance[0], 1.0);
-  EXPECT_NEAR(s.materials[0].reflectance[1], 0.0, 1e-9);
-  EXPECT_TRUE(has_warning(s, "1 material(s) with a saturated colour"));
+  EXPECT_NEAR(s.materials[0].reflectance[0], 1.0, 1e-12);
+  EXPECT_NEAR(s.materials[0].reflectance[1], 0.32775378, 1e-8);
+  EXPECT_TRUE(has_warning(s, "1 colour(s) outside the RGB gamut (1 reflectance, 0 emission)"));
 }
 
 TEST(MgfColor, CmixMixesInXyzByLuminance) {
@@ -346,7 +347,7 @@ TEST(MgfContexts, WarningsForUnknownAndIgnoredEntities) {
   EXPECT_EQ(s.faces.size(), 1u);
   EXPECT_TRUE(has_warning(s, "3 unknown MGF entities ignored: bar (1), foo (2)"));
   EXPECT_TRUE(has_warning(s, "1 td/rs/ts value(s) ignored"));
-  EXPECT_TRUE(has_warning(s, "1 cspec/cct colour(s)"));
+  EXPECT_FALSE(has_warning(s, "cspec/cct"));  // cct is converted, not ignored
   EXPECT_TRUE(has_warning(s, "1 'o' end(s) without a begin"));
 }
 
@@ -381,7 +382,11 @@ TEST(MgfErrors, EachBadFileNamesFileAndLine) {
   expect_error("bad/recursive.mgf", "bad/recursive.mgf", 2, "nested deeper than 32");
   expect_error("bad/nan_coordinate.mgf", "bad/nan_coordinate.mgf", 4, "not a finite number");
   expect_error("bad/reflectance.mgf", "bad/reflectance.mgf", 3, "1.5 is outside [0, 1]");
-  expect_error("bad/ies.mgf", "bad/ies.mgf", 2, "not supported");
+  expect_error("bad/ies.mgf", "bad/ies.mgf", 2,
+               "goniometric (IES LM-63) luminaires are not supported");
+  expect_error("bad/cxy_outside.mgf", "bad/cxy_outside.mgf", 4, "is not a chromaticity");
+  expect_error("bad/cspec_negative.mgf", "bad/cspec_negative.mgf", 4, "is negative");
+  expect_error("bad/cct_low.mgf", "bad/cct_low.mgf", 3, "below 1000 K");
   expect_error("bad/xf_end.mgf", "bad/xf_end.mgf", 3, "without a matching xf begin");
   expect_error("bad/ring_normal.mgf", "bad/ring_normal.mgf", 4, "has no normal");
   expect_error("bad/include_error.mgf", "bad/sub/broken.inc", 3, "expected 3 argument(s)");
