@@ -140,8 +140,6 @@ Effects analyse_effects(const Scene& scene, const SolverOptions& options) {
   });
   if (all) {
     e.colour = {true, kForced};
-  } else if (coloured == mats.end() && options.cluster_receiver == "cosine") {
-    e.colour = {true, "grey scene, but cluster_receiver = cosine gathers three channels"};
   } else if (coloured == mats.end()) {
     e.colour = {false,
                 "every reflectance and emission is grey (equal channels): one channel is "

@@ -260,13 +260,6 @@ void prepare_clusters(const std::vector<Element*>& elements) {
   }
 }
 
-// The radiosity a link's source shows its receiver `r`: a surface's B, a cluster's
-// along the direction from it to r (ClusterLight; the direction need not be unit).
-Rgb source_radiosity(const Link& l, const Element& r) {
-  const Element& s = *l.source;
-  return s.light ? s.light->radiosity_towards(r.center - s.center, s.B) : s.B;
-}
-
 template <class V>
 V channels(const Rgb& x) {
   if constexpr (std::is_same_v<V, double>) {
@@ -276,21 +269,26 @@ V channels(const Rgb& x) {
   }
 }
 
-// Every element's links as a sparse matrix over value slots, for the gather of the
-// propagation with isotropic cluster receivers. Slot i holds the radiosity of
-// elements[i]; a cluster has six more, the mean radiosity of its members facing each
-// axis direction (ClusterLight's leaving / open_area). A link from a surface is one
-// entry, its transport on the source's slot. A link from a cluster along d is up to
-// three, on the slots of the directions d is seen along, weighted by |d_i| open_area /
-// their sum: the same value as radiosity_towards gives. Links and open areas do not
-// change during a propagation, so the matrix is built once per propagation, and each
-// sweep's gather streams over it and a small dense array of values instead of reading
-// every link's source element (456 bytes apart; for a cluster its ClusterLight too).
-// Weights are floats, like the links' form factor and visibility they come from.
+// Every element's links as a sparse matrix over value slots, for the propagation's
+// gather. Slot i holds the radiosity of elements[i]; a cluster has six more, the mean
+// radiosity of its members facing each axis direction (ClusterLight's leaving /
+// open_area). A link from a surface is one entry, its transport on the source's slot.
+// A link from a cluster along d is up to three, on the slots of the directions d is
+// seen along, weighted by |d_i| open_area / their sum: the same value as
+// radiosity_towards gives. An element's row is the irradiance its links deliver; with
+// cosine cluster receivers a cluster has six rows instead, the irradiance arriving
+// along each axis direction (ClusterLight::arriving: each link's irradiance on a unit
+// surface facing its source, |d_i| of it along axis i, as gather_one splits it), so a
+// link there is up to nine entries. Links and open areas do not change during a
+// propagation, so the matrix is built once per propagation, and each sweep's gather
+// streams over it and a small dense array of values instead of reading every link's
+// source element (456 bytes apart; for a cluster its ClusterLight too). Weights are
+// floats, like the links' form factor and visibility they come from.
 class GatherMatrix {
  public:
   // `elements` parents before children, clusters prepared (prepare_clusters).
-  GatherMatrix(const std::vector<Element*>& elements, int threads) : row_(elements.size() + 1, 0) {
+  GatherMatrix(const std::vector<Element*>& elements, int threads, bool cosine)
+      : cosine_(cosine), first_row_(elements.size() + 1, 0) {
     const auto n = static_cast<std::ptrdiff_t>(elements.size());
     axis_.assign(elements.size(), 0);
     std::size_t slot = elements.size();
@@ -300,27 +298,31 @@ class GatherMatrix {
         axis_[i] = static_cast<std::uint32_t>(slot);
         slot += 6;
       }
+      first_row_[i + 1] = first_row_[i] + rows_of(*elements[i]);
     }
     slots_ = slot;
+    row_.assign(first_row_.back() + 1, 0);
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       const Element& e = *elements[static_cast<std::size_t>(i)];
-      std::size_t count = 0;
-      for (const Link& l : e.links) entries(e, l, [&](std::uint32_t, double) { ++count; });
-      row_[static_cast<std::size_t>(i) + 1] = count;
+      const std::size_t r = first_row_[static_cast<std::size_t>(i)];
+      for (const Link& l : e.links)
+        entries(e, l, [&](std::size_t k, std::uint32_t, double) { ++row_[r + k + 1]; });
     }
-    for (std::size_t i = 0; i < elements.size(); ++i) row_[i + 1] += row_[i];
+    for (std::size_t r = 0; r + 1 < row_.size(); ++r) row_[r + 1] += row_[r];
     col_.resize(row_.back());
     weight_.resize(row_.back());
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       const Element& e = *elements[static_cast<std::size_t>(i)];
-      std::size_t j = row_[static_cast<std::size_t>(i)];
+      const std::size_t r = first_row_[static_cast<std::size_t>(i)];
+      std::array<std::size_t, 6> at{};
+      for (std::size_t k = 0; k < rows_of(e); ++k) at[k] = row_[r + k];
       for (const Link& l : e.links)
-        entries(e, l, [&](std::uint32_t c, double w) {
-          col_[j] = c;
-          weight_[j] = static_cast<float>(w);
-          ++j;
+        entries(e, l, [&](std::size_t k, std::uint32_t c, double w) {
+          col_[at[k]] = c;
+          weight_[at[k]] = static_cast<float>(w);
+          ++at[k];
         });
     }
   }
@@ -339,19 +341,47 @@ class GatherMatrix {
                                        : channels<V>(e.B);
   }
 
-  /// Row e of the matrix times `values`: the irradiance e's own links deliver.
+  /// Row k of element e times `values`: with one row per element (k = 0), the
+  /// irradiance e's own links deliver; for a cosine cluster receiver, what arrives
+  /// along axis direction k.
   template <class V>
-  [[nodiscard]] V gather(const Element& e, const std::vector<V>& values) const {
+  [[nodiscard]] V gather(const Element& e, const std::vector<V>& values, std::size_t k = 0) const {
     V g = channels<V>(Rgb::Zero());
-    for (std::size_t j = row_[e.index]; j < row_[e.index + 1]; ++j)
+    const std::size_t r = first_row_[e.index] + k;
+    for (std::size_t j = row_[r]; j < row_[r + 1]; ++j)
       g += static_cast<double>(weight_[j]) * values[col_[j]];
     return g;
   }
 
+  /// Whether e's rows are the six axis directions (a cluster, cosine receivers).
+  [[nodiscard]] bool by_axis(const Element& e) const { return cosine_ && e.is_cluster(); }
+
  private:
-  // Calls emit(slot, weight) for each entry of link l at receiver e.
+  [[nodiscard]] std::size_t rows_of(const Element& e) const { return by_axis(e) ? 6 : 1; }
+
+  // Calls emit(row k of e, slot, weight) for each entry of link l at receiver e.
   template <class Emit>
   void entries(const Element& e, const Link& l, const Emit& emit) const {
+    if (!by_axis(e)) {
+      source_entries(e, l, [&](std::uint32_t c, double w) { emit(0, c, w); });
+      return;
+    }
+    // Undo the link's mean cosine over the members' open area and split the
+    // irradiance along the axes, as gather_one does.
+    const Vec3 d = (l.source->center - e.center).normalized();
+    const double projected = e.light->projected_open_area(d);
+    if (!(projected > 0)) return;
+    const double facing = e.area / projected;
+    source_entries(e, l, [&](std::uint32_t c, double w) {
+      for (int a = 0; a < 3; ++a)
+        if (d[a] != 0)
+          emit(static_cast<std::size_t>(2 * a + (d[a] < 0)), c, w * std::abs(d[a]) * facing);
+    });
+  }
+
+  // Calls emit(slot, weight) for each part of the radiosity link l's source shows e.
+  template <class Emit>
+  void source_entries(const Element& e, const Link& l, const Emit& emit) const {
     const Element& s = *l.source;
     const double t = l.transport();
     if (!s.is_cluster()) {
@@ -377,10 +407,12 @@ class GatherMatrix {
              t * part[static_cast<std::size_t>(a)] / sum);
   }
 
-  std::vector<std::size_t> row_;     // entries of elements[i]: row_[i] .. row_[i + 1]
-  std::vector<std::uint32_t> col_;   // value slot of each entry
+  bool cosine_;
+  std::vector<std::size_t> first_row_;  // rows of elements[i]: first_row_[i] .. first_row_[i + 1]
+  std::vector<std::size_t> row_;        // entries of row r: row_[r] .. row_[r + 1]
+  std::vector<std::uint32_t> col_;      // value slot of each entry
   std::vector<float> weight_;
-  std::vector<std::uint32_t> axis_;  // per element: its first axis slot (clusters)
+  std::vector<std::uint32_t> axis_;     // per element: its first axis slot (clusters)
   std::size_t slots_ = 0;
 };
 
@@ -394,8 +426,7 @@ class Sweeper {
         cosine_(mode == ClusterReceiver::Cosine),
         grey_(grey) {
     prepare_clusters(elements);
-    if (cosine_) return;
-    matrix_.emplace(elements, threads);
+    matrix_.emplace(elements, threads, cosine_);
     if (grey_) {
       init(channel0_);
     } else {
@@ -405,25 +436,19 @@ class Sweeper {
 
   /// One sweep; returns the largest change relative to the largest radiosity.
   double sweep() {
-    SweepChange c;
-    if (cosine_) {
-      // Cluster receivers split each link's light by its direction: per link.
-      c = run_pass(
-          elements_, parts_, true, true,
-          [&](Element& e) {
-            gather_one(e, true,
-                       [&](const Link& l) -> Rgb { return l.transport() * source_radiosity(l, e); });
-          },
-          [](const Element&) {});
-    } else if (grey_) {
-      c = pass(channel0_);
-    } else {
-      c = pass(colour_);
-    }
+    const SweepChange c = grey_ ? pass(channel0_) : pass(colour_);
     return c.largest > 0 ? c.change / c.largest : 0.0;
   }
 
  private:
+  template <class V>
+  static Rgb as_rgb(const V& v) {
+    if constexpr (std::is_same_v<V, double>) {
+      return Rgb::Constant(v);
+    } else {
+      return v;
+    }
+  }
   template <class V>
   void init(std::vector<V>& values) {
     values.resize(matrix_->slots());
@@ -433,14 +458,14 @@ class Sweeper {
   SweepChange pass(std::vector<V>& values) {
     const GatherMatrix& m = *matrix_;
     return run_pass(
-        elements_, parts_, false, true,
+        elements_, parts_, cosine_, true,
         [&](Element& e) {
-          const V g = m.gather(e, values);
-          if constexpr (std::is_same_v<V, double>) {
-            e.gathered = Rgb::Constant(open_gain(e) * g);
-          } else {
-            e.gathered = open_gain(e) * g;
+          if (m.by_axis(e)) {  // a cosine cluster receiver: what arrives along each axis
+            for (std::size_t k = 0; k < 6; ++k) e.light->arriving[k] = as_rgb(m.gather(e, values, k));
+            e.gathered = Rgb::Zero();
+            return;
           }
+          e.gathered = open_gain(e) * as_rgb(m.gather(e, values));
         },
         [&](const Element& e) { m.store(e, values); });
   }
