@@ -34,6 +34,9 @@
 // |                     |        |              | polygon (core/shaft.h); off: always cast the rays          |
 // | max_memory_gb       | double | 0            | refinement stops with an error when its elements and links |
 // |                     |        |              | pass this (0: 3/4 of the machine's physical memory)        |
+// | camera              | string | ""           | render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=..][:fov=..] |
+// |                     |        |              | (core/camera_spec.h), "auto", or "" (the scene's own, else |
+// |                     |        |              | automatic)                                                 |
 #pragma once
 
 #include <cstdint>
@@ -66,6 +69,7 @@ struct SolverOptions {
   std::string effects = "auto";
   std::string shaft_culling = "off";
   double max_memory_gb = 0;
+  std::string camera;
 };
 
 }  // namespace hrad

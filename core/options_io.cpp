@@ -1,5 +1,6 @@
 #include "core/options_io.h"
 
+#include "core/camera_spec.h"
 #include "core/json_input.h"
 
 #include <fmt/format.h>
@@ -23,7 +24,14 @@ struct Row {
   const char* name;
   Member member;
   const char* help;
+  /// For string keys with a syntax of their own: throws std::invalid_argument saying
+  /// what is wrong with the text (nullptr: any text).
+  void (*check_text)(const std::string&) = nullptr;
 };
+
+void check_camera_text(const std::string& text) {
+  if (!text.empty() && !is_auto_camera(text)) (void)parse_camera_spec(text);
+}
 
 const std::vector<Row>& rows() {
   using S = SolverOptions;
@@ -65,6 +73,10 @@ const std::vector<Row>& rows() {
       {"max_memory_gb", &S::max_memory_gb,
        "refinement stops with an error when its elements and links pass this many GB (0: "
        "3/4 of the machine's physical memory)"},
+      {"camera", &S::camera,
+       "render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG], auto, or empty (the "
+       "scene's own, else automatic)",
+       &check_camera_text},
   };
   return table;
 }
@@ -144,6 +156,23 @@ bool from_json_value(const nlohmann::json& j, std::string& out) {
   if (!j.is_string()) return false;
   out = j.get<std::string>();
   return true;
+}
+
+template <class T>
+void check_syntax(const Row& r, const T& value, std::string_view source) {
+  if constexpr (std::is_same_v<T, std::string>) {
+    if (!r.check_text) return;
+    try {
+      r.check_text(value);
+    } catch (const std::invalid_argument& e) {
+      // With a source, the style of the type errors; without, that of the range errors.
+      throw std::invalid_argument(
+          source.empty()
+              ? fmt::format("option {} = '{}': {}", r.name, brief_text(value), e.what())
+              : fmt::format("{}: option '{}' = '{}': {}", source, r.name, brief_text(value),
+                            e.what()));
+    }
+  }
 }
 
 void check(bool ok, const char* key, const std::string& value, const char* rule) {
@@ -226,6 +255,7 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
                 "{}: option '{}' expects {} {}, got {} {}", source, key,
                 type_of(r->member) == OptionType::Int ? "an" : "a",
                 option_type_name(type_of(r->member)), value.type_name(), brief_json(value)));
+          check_syntax(*r, parsed, source);
           o.*member = parsed;
         },
         r->member);
@@ -244,6 +274,7 @@ void apply_option_value(SolverOptions& o, std::string_view key, std::string_view
               fmt::format("{}: option '{}' expects {} {}, got '{}'", source, r->name,
                           type_of(r->member) == OptionType::Int ? "an" : "a",
                           option_type_name(type_of(r->member)), brief_text(value)));
+        check_syntax(*r, parsed, source);
         o.*member = parsed;
       },
       r->member);
@@ -293,6 +324,8 @@ void validate_options(const SolverOptions& o) {
   check(o.effects == "auto" || o.effects == "all", "effects", o.effects, "auto or all");
   check(o.shaft_culling == "on" || o.shaft_culling == "off", "shaft_culling", o.shaft_culling,
         "on or off");
+  for (const Row& r : rows())
+    if (r.check_text) std::visit([&](auto member) { check_syntax(r, o.*member, ""); }, r.member);
 }
 
 }  // namespace hrad

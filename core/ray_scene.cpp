@@ -6,7 +6,7 @@
 //    Embree's primID back to the input polygon.
 // The scene is built with RTC_SCENE_FLAG_ROBUST (watertight traversal: no rays leak
 // through edges shared by neighbouring polygons) and high build quality, since hrad
-// casts many rays against a static scene.
+// casts many rays against a static scene (medium for RayScene::Build::Fast).
 // Ignored polygons (occluded()/intersect() arguments) are rejected by a per-query
 // filter: RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION plus an IgnoreContext that begins
 // with the RTCIntersectContext Embree sees. Queries that ignore nothing set no filter.
@@ -170,7 +170,7 @@ struct RayScene::Impl {
 };
 
 RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t> indices,
-                   std::span<const PolygonRange> polygons)
+                   std::span<const PolygonRange> polygons, Build build)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.polygons = polygons.size();
@@ -229,7 +229,8 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
     throw std::runtime_error("Embree was built without filter functions (needed to ignore polygons)");
   m.scene = rtcNewScene(m.device);
   rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-  rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneBuildQuality(m.scene, build == Build::Fast ? RTC_BUILD_QUALITY_MEDIUM
+                                                        : RTC_BUILD_QUALITY_HIGH);
   m.check("creating the scene");
 
   if (!polygons.empty()) {
@@ -259,11 +260,11 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
   m.check("building the BVH");
 }
 
-RayScene RayScene::from_scene(const Scene& scene) {
+RayScene RayScene::from_scene(const Scene& scene, Build build) {
   std::vector<PolygonRange> polys;
   polys.reserve(scene.faces.size());
   for (const Face& f : scene.faces) polys.push_back({f.first, f.count});
-  return RayScene(scene.vertices, scene.indices, polys);
+  return RayScene(scene.vertices, scene.indices, polys, build);
 }
 
 RayScene::RayScene(RayScene&&) noexcept = default;
@@ -273,6 +274,8 @@ RayScene::~RayScene() = default;
 double RayScene::scale() const { return impl_->diagonal; }
 
 std::size_t RayScene::polygon_count() const { return impl_->polygons; }
+
+const Vec3& RayScene::normal(std::uint32_t poly) const { return impl_->normal.at(poly); }
 
 std::uint64_t RayScene::rays_cast() const {
   std::uint64_t n = 0;

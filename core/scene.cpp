@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 namespace hrad {
 
@@ -44,16 +45,30 @@ bool Scene::is_grey() const {
                      [&](const Material& m) { return grey(m.reflectance) && grey(m.emission); });
 }
 
-Camera Scene::default_camera() const {
-  // Up is +y (the OBJ convention) unless clearly more face area is horizontal in
-  // z (z-up scenes). The camera then looks horizontally into the scene from the
+int Scene::up_axis() const {
+  // Face area by axis: |vector area| per component (area times |normal|), by
+  // Newell's sum without copying the vertices.
+  Vec3 area_by_axis = Vec3::Zero();
+  for (const Face& face : faces) {
+    Vec3 n = Vec3::Zero();
+    for (std::uint32_t i = 0; i < face.count; ++i)
+      n += vertices[indices[face.first + i]].cross(
+          vertices[indices[face.first + (i + 1) % face.count]]);
+    area_by_axis += 0.5 * n.cwiseAbs();
+  }
+  return area_by_axis.z() > 1.5 * area_by_axis.y() ? 2 : 1;
+}
+
+namespace {
+
+/// The camera of default_camera(), and whether it looks in through an open side.
+std::pair<Camera, bool> side_camera(const Scene& s) {
+  // Up is the scene's up axis. The camera looks horizontally into the scene from the
   // side with the least wall facing it: from outside through an open side (the
   // Cornell box's missing front wall), else from just inside the least-walled side
   // of a closed room, so that walls do not hide everything.
-  const Aabb b = bounds();
-  Vec3 area_by_axis = Vec3::Zero();
-  for (std::size_t f = 0; f < faces.size(); ++f) area_by_axis += face_area(f) * face_normal(f).cwiseAbs();
-  const int up = area_by_axis.z() > 1.5 * area_by_axis.y() ? 2 : 1;
+  const Aabb b = s.bounds();
+  const int up = s.up_axis();
   const Vec3 e = b.extent();
   const double diag = b.diagonal();
   int best_axis = -1;
@@ -64,10 +79,10 @@ Camera Scene::default_camera() const {
       // Area of faces near this side's boundary plane that face into the box.
       const double plane = sign > 0 ? b.hi[axis] : b.lo[axis];
       double block = 0;
-      for (std::size_t f = 0; f < faces.size(); ++f) {
-        const auto p = face_vertices(f);
+      for (std::size_t f = 0; f < s.faces.size(); ++f) {
+        const auto p = s.face_vertices(f);
         if (std::abs(polygon_centroid(p)[axis] - plane) > 0.02 * e[axis] + 1e-12 * diag) continue;
-        if (face_normal(f)[axis] * sign < -0.5) block += face_area(f);
+        if (s.face_normal(f)[axis] * sign < -0.5) block += s.face_area(f);
       }
       if (block < best_block - 1e-9 * diag * diag) {
         best_block = block;
@@ -83,7 +98,8 @@ Camera Scene::default_camera() const {
   const double side_area = e[side] * e[up];
   const double half = 0.5 * std::max(e[side], e[up]);
   cam.eye = b.center();
-  if (best_block < 0.05 * side_area) {
+  const bool open = best_block < 0.05 * side_area;
+  if (open) {
     cam.fov_y_deg = 40.0;
     const double dist = half / std::tan(0.5 * cam.fov_y_deg * std::numbers::pi / 180.0);
     cam.eye[best_axis] = (best_sign > 0 ? b.hi[best_axis] : b.lo[best_axis]) + best_sign * dist;
@@ -92,7 +108,16 @@ Camera Scene::default_camera() const {
     cam.eye[best_axis] = (best_sign > 0 ? b.hi[best_axis] : b.lo[best_axis]) -
                          best_sign * 0.02 * e[best_axis];
   }
-  return cam;
+  return {cam, open};
 }
+
+}  // namespace
+
+std::optional<Camera> Scene::open_side_camera() const {
+  auto [cam, open] = side_camera(*this);
+  return open ? std::optional<Camera>(cam) : std::nullopt;
+}
+
+Camera Scene::default_camera() const { return side_camera(*this).first; }
 
 }  // namespace hrad

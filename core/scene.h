@@ -59,8 +59,17 @@ struct Scene {
   [[nodiscard]] std::size_t emitter_count() const;
   /// True when every reflectance and emission has equal channels.
   [[nodiscard]] bool is_grey() const;
-  /// A camera looking at the whole scene when none was given: from outside the
-  /// bounding box on the side of its largest face-area axis... see scene.cpp.
+  /// 2 (z up) when clearly more face area faces along z than along y (1.5 times),
+  /// else 1 (y up, the OBJ convention).
+  [[nodiscard]] int up_axis() const;
+  /// A camera looking horizontally into the scene from outside its bounding box
+  /// through the side with the least wall facing inwards, when that side is open (its
+  /// inward-facing area is under 5% of the side: the Cornell box's missing front
+  /// wall, or any side of a single object); nullopt when every side is walled.
+  [[nodiscard]] std::optional<Camera> open_side_camera() const;
+  /// open_side_camera(), else a view from 2% inside the least-walled side. Blind to
+  /// wall thickness: in a closed room whose walls are thicker than that, the eye is
+  /// inside a wall. core/auto_camera.h chooses better cameras with rays.
   [[nodiscard]] Camera default_camera() const;
 };
 

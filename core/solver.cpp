@@ -378,6 +378,8 @@ RunStats Solver::run() {
   return stats;
 }
 
+const RayScene& Solver::ray_scene() const { return impl_->rays; }
+
 RenderMesh Solver::render_mesh() const {
   // Leaves of every input polygon; each vertex's radiosity is the mean of the
   // leaves of the same input polygon that share it (so there is no smoothing

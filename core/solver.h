@@ -21,6 +21,8 @@ namespace hrad {
 /// fraction in [0,1] of the whole run. Called from the solver's own thread only.
 using ProgressFn = std::function<void(const std::string& phase, double fraction)>;
 
+class RayScene;
+
 class Solver {
  public:
   /// Throws std::invalid_argument for an unknown scheduler/oracle name or an option
@@ -32,6 +34,10 @@ class Solver {
 
   /// Runs every iteration; returns what was measured.
   RunStats run();
+
+  /// The ray scene of the scene's faces (prim ids are face indices) that visibility
+  /// uses, for other queries about the scene (the automatic camera). Thread-safe.
+  [[nodiscard]] const RayScene& ray_scene() const;
 
   /// Leaf elements with vertex-averaged radiosity, for render.png and solution.ply.
   [[nodiscard]] RenderMesh render_mesh() const;

@@ -1,6 +1,7 @@
 #include "core/stats_json.h"
 
 #include "core/atomic_file.h"
+#include "core/camera_spec.h"
 
 #include <cmath>
 #include <ostream>
@@ -153,6 +154,17 @@ nlohmann::json scene_summary_json(const Scene& scene) {
       {"grey", scene.is_grey()},
       {"warnings", scene.warnings},
   };
+}
+
+nlohmann::json camera_json(const Camera& cam, const std::string& source,
+                           const std::string& view_file) {
+  return {{"eye", vec3(cam.eye)},
+          {"look", vec3(cam.target)},
+          {"up", vec3(cam.up)},
+          {"fov", number(cam.fov_y_deg)},
+          {"source", source},
+          {"view_file", view_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(view_file)},
+          {"spec", camera_spec_string(cam)}};
 }
 
 void write_json_atomically(const std::filesystem::path& path, const nlohmann::json& j) {

@@ -28,6 +28,12 @@ namespace hrad {
 ///  hi [x,y,z]} (null for an empty scene), grey (bool), warnings [...]}.
 [[nodiscard]] nlohmann::json scene_summary_json(const Scene& scene);
 
+/// {eye [x,y,z], look [x,y,z], up [x,y,z], fov (vertical, degrees), source (how it was
+///  chosen: "option", "config", "view file", "scene", "automatic"), view_file (the path,
+///  or null), spec (the --camera text that gives this camera again)}.
+[[nodiscard]] nlohmann::json camera_json(const Camera& cam, const std::string& source,
+                                         const std::string& view_file = "");
+
 /// Writes `j` pretty-printed (2-space indent, trailing newline) to `path` atomically
 /// (core/atomic_file.h). Throws std::runtime_error naming the path on failure.
 void write_json_atomically(const std::filesystem::path& path, const nlohmann::json& j);

@@ -3,7 +3,8 @@
 //
 // Order of events, chosen so that bad input never leaves an output folder behind:
 //   1. options: defaults < --config FILE < explicit flags < --set key=value; validate;
-//   2. the scene (and the --probes file): InputError -> "hrad: <file:line: what>";
+//   2. the scene (and the --probes file, the camera's view file): InputError ->
+//      "hrad: <file:line: what>"; the camera (choose_camera);
 //   3. the Solver is constructed (an unknown scheduler or oracle is reported here);
 //   every failure so far exits with status 1 and creates nothing. Then
 //   4. the output folder is created (--out DIR, default results/<scene>-<time>/);
@@ -12,6 +13,8 @@
 //      each written atomically. stats.json lists the files actually written and, if
 //      one failed, the error. A run that fails before writing anything removes the
 //      folder if it created it.
+#include "core/auto_camera.h"
+#include "core/camera_spec.h"
 #include "core/input_error.h"
 #include "core/interrupt.h"
 #include "core/json_input.h"
@@ -68,6 +71,8 @@ constexpr const char* kCompiler = "gcc " __VERSION__;
 struct SolveArgs {
   std::string scene;
   std::string config, probes, image, out;
+  std::string camera, view;  ///< --camera SPEC, --view FILE
+  CLI::Option* camera_option = nullptr;
   std::vector<std::string> sets;
   bool quiet = false;
   std::map<std::string, std::string> flag_values;  ///< key -> text, for flags given
@@ -78,7 +83,9 @@ struct Failure {
   std::string message;
 };
 
-SolverOptions resolve_options(const SolveArgs& a) {
+/// Resolves the options; `camera_from` says who set the camera key last: "config",
+/// "option" (--camera or --set camera=...) or "" (nobody).
+SolverOptions resolve_options(const SolveArgs& a, std::string& camera_from) {
   SolverOptions o;
   if (!a.config.empty()) {
     std::ifstream in(a.config);
@@ -87,13 +94,81 @@ SolverOptions resolve_options(const SolveArgs& a) {
     text << in.rdbuf();
     const auto j = parse_json_document<nlohmann::json>(text.str(), a.config, /*comments=*/true);
     apply_options_json(o, j, a.config);
+    if (j.contains("camera")) camera_from = "config";
   }
   for (const OptionFlag& f : kOptionFlags)
     if (a.flag_options.at(f.key)->count() > 0)
       apply_option_value(o, f.key, a.flag_values.at(f.key), f.flag);
-  for (const std::string& s : a.sets) apply_option_assignment(o, s);
+  if (a.camera_option->count() > 0) {
+    apply_option_value(o, "camera", a.camera, "--camera");
+    camera_from = "option";
+  }
+  for (const std::string& s : a.sets) {
+    apply_option_assignment(o, s);
+    const OptionInfo* info = find_option(s.substr(0, s.find('=')));
+    if (info && info->name == "camera") camera_from = "option";
+  }
   validate_options(o);
   return o;
+}
+
+/// The camera of render.png and how it was chosen (stats.json "camera").
+struct ChosenCamera {
+  Camera camera;
+  std::string source;     ///< "option", "view file", "config", "scene", "automatic"
+  std::string view_file;  ///< for "view file"
+  AutoCamera automatic;   ///< for "automatic"
+};
+
+/// First of: the camera key set on the command line (--camera, --set camera=...),
+/// --view FILE, the camera key of --config, SCENE.view beside a scene file, the
+/// scene's own camera (built-in scenes), the automatic camera. "auto" as the key's
+/// value skips to the last. The automatic camera itself is left to the caller.
+ChosenCamera choose_camera(const SolveArgs& a, const SolverOptions& o,
+                           const std::string& camera_from, const Scene& scene) {
+  if (!a.view.empty() && camera_from == "option")
+    throw std::invalid_argument(
+        "--view and --camera (or --set camera=...) both give the camera: use one of them");
+  const Vec3 up = Vec3::Unit(scene.up_axis());
+  ChosenCamera c;
+  auto automatic = [&] {
+    c.source = "automatic";  // chosen once the solver's ray scene exists
+    return c;
+  };
+  auto from_view_file = [&](const fs::path& file) {
+    c.view_file = file.string();
+    try {
+      c.camera = resolve_camera(read_view_file(file), up);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(c.view_file, 0, e.what());
+    }
+    c.source = "view file";
+    return c;
+  };
+  auto from_key = [&](const char* source) {
+    if (is_auto_camera(o.camera)) return automatic();
+    try {
+      c.camera = resolve_camera(parse_camera_spec(o.camera), up);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(fmt::format("option camera = '{}': {}", o.camera, e.what()));
+    }
+    c.source = source;
+    return c;
+  };
+  if (camera_from == "option" && !o.camera.empty()) return from_key("option");
+  if (!a.view.empty()) return from_view_file(a.view);
+  if (camera_from == "config" && !o.camera.empty()) return from_key("config");
+  if (a.scene.rfind("builtin:", 0) != 0) {
+    const fs::path sibling = fs::path(a.scene).replace_extension(".view");
+    std::error_code ec;
+    if (fs::is_regular_file(sibling, ec)) return from_view_file(sibling);
+  }
+  if (scene.camera) {
+    c.camera = *scene.camera;
+    c.source = "scene";
+    return c;
+  }
+  return automatic();
 }
 
 // results/<scene>-<YYYYmmdd-HHMMSS>/, made unique with -2, -3 ... when taken.
@@ -149,8 +224,10 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   std::vector<Probe> probes;
   std::unique_ptr<ProgressReporter> progress;
   std::unique_ptr<Solver> solver;
+  ChosenCamera camera;
   try {
-    options = resolve_options(a);
+    std::string camera_from;
+    options = resolve_options(a, camera_from);
     if (!a.image.empty()) {
       std::string ext = fs::path(a.image).extension().string();
       for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -167,10 +244,15 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       if (probes.empty())
         throw std::invalid_argument(fmt::format("{}: holds no probe (only comments or blank lines)", a.probes));
     }
+    camera = choose_camera(a, options, camera_from, scene);
     if (!scene.warnings.empty()) progress->finish();  // warnings start on a clean line
     for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
     progress->update("preparing (hierarchy, rays, effects)", 0);
     solver = std::make_unique<Solver>(scene, options, progress->callback());
+    if (camera.source == "automatic") {
+      camera.automatic = automatic_camera(scene, solver->ray_scene());
+      camera.camera = camera.automatic.camera;
+    }
   } catch (const std::exception& e) {
     if (progress) progress->finish();
     print_error(e.what());
@@ -209,7 +291,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       if (!a.image.empty() && image.has_parent_path()) fs::create_directories(image.parent_path());
       const int width = options.image_width;
       const int height = std::max(1, width * 3 / 4);
-      render_png(mesh, scene.camera.value_or(scene.default_camera()), width, height, image);
+      render_png(mesh, camera.camera, width, height, image);
       outputs["image"] = a.image.empty() ? "render.png" : a.image;
       written.push_back(a.image.empty() ? "render.png" : a.image);
 
@@ -230,8 +312,13 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
         {"config", options_to_json(options)},
         {"config_file", a.config.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.config)},
         {"scene", scene_summary_json(scene)},
+        {"camera", camera_json(camera.camera, camera.source, camera.view_file)},
         {"topology", topology_json()},
     };
+    if (camera.source == "automatic")
+      j["camera"]["automatic"] = {{"view", camera.automatic.view},
+                                  {"rays", camera.automatic.rays},
+                                  {"seconds", camera.automatic.seconds}};
     j.update(stats_to_json(stats));
     // Top-level warnings: the scene's first, then the solver's.
     nlohmann::json warnings = scene.warnings;
@@ -298,6 +385,17 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
                   "Output folder, created if missing, files in it replaced [default: "
                   "results/<scene>-<YYYYmmdd-HHMMSS>/ in the current directory]")
       ->type_name("DIR");
+  args->camera_option =
+      sub->add_option("--camera", args->camera,
+                      "Camera of the image: eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG] (up: the "
+                      "scene's up axis, fov: 60 degrees, by default), or auto; sets config key "
+                      "camera [default: --view, the config's camera, SCENE.view, the scene's "
+                      "own, else automatic]")
+          ->type_name("SPEC");
+  sub->add_option("--view", args->view,
+                  "Camera of the image from a view file: lines 'eye X Y Z', 'look X Y Z', "
+                  "optional 'up X Y Z' and 'fov DEG', # comments (see README)")
+      ->type_name("FILE");
   sub->add_option("--config", args->config,
                   "JSON file of option keys (see README, 'Configuration'); explicit flags and "
                   "--set override it [default: none]")

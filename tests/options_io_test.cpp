@@ -1,6 +1,7 @@
 #include "core/options_io.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <set>
 #include <stdexcept>
@@ -44,10 +45,12 @@ SolverOptions non_default_options() {
   o.trace = "trace.bin";
   o.image_width = 320;
   o.max_memory_gb = 2.5;
+  o.camera = "eye=1,2,3:look=0,0.5,-1e-3:fov=30";
   return o;
 }
 
 void expect_equal(const SolverOptions& a, const SolverOptions& b) {
+  EXPECT_EQ(a.camera, b.camera);
   EXPECT_EQ(a.scheduler, b.scheduler);
   EXPECT_EQ(a.block_size, b.block_size);
   EXPECT_EQ(a.threads, b.threads);
@@ -76,7 +79,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
     EXPECT_TRUE(j.contains(i.name)) << i.name;
     EXPECT_FALSE(i.help.empty()) << i.name;
   }
-  EXPECT_EQ(names.size(), 24u);  // one per field of SolverOptions
+  EXPECT_EQ(names.size(), 25u);  // one per field of SolverOptions
   EXPECT_EQ(j.size(), names.size());
   EXPECT_EQ(j["scheduler"], "stack");
   EXPECT_EQ(j["iterations"], 4);
@@ -240,6 +243,39 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
   EXPECT_TRUE(contains(err("threads=0"), ">= 1"));
   EXPECT_EQ(err("min_area=0"), "");
   EXPECT_EQ(err("visibility_rays=0"), "");
+}
+
+TEST(OptionsIo, CameraKeyIsCheckedWhereItIsRead) {
+  SolverOptions o;
+  apply_options_json(o, nlohmann::json::parse(R"({"camera": "eye=1,2,3:look=0,0,0"})"), "c.json");
+  EXPECT_EQ(o.camera, "eye=1,2,3:look=0,0,0");
+  apply_option_assignment(o, "camera=auto");
+  EXPECT_EQ(o.camera, "auto");
+  apply_option_value(o, "camera", "", "--camera");  // "": the scene's own, else automatic
+  EXPECT_NO_THROW(validate_options(o));
+
+  // In a config file: the file, the key, the text and the bad part.
+  std::string e = error_of([&] {
+    apply_options_json(o, nlohmann::json::parse(R"({"camera": "eye=1,2:look=0,0,0"})"), "c.json");
+  });
+  EXPECT_EQ(e, "c.json: option 'camera' = 'eye=1,2:look=0,0,0': 'eye=1,2' needs three numbers "
+               "eye=X,Y,Z, got 2") << e;
+  e = error_of([&] {
+    apply_options_json(o, nlohmann::json::parse(R"({"camera": {"eye": [1, 2, 3]}})"), "c.json");
+  });
+  EXPECT_TRUE(contains(e, "c.json: option 'camera' expects a string, got object")) << e;
+  e = error_of([&] { apply_option_assignment(o, "camera=eye=1,2,3"); });
+  EXPECT_TRUE(contains(e, "--set camera=eye=1,2,3: option 'camera' = 'eye=1,2,3': no look=X,Y,Z part"))
+      << e;
+  e = error_of([&] { apply_option_value(o, "camera", "eye=1,2,3:look=1,2,3", "--camera"); });
+  EXPECT_TRUE(contains(e, "--camera: option 'camera' = 'eye=1,2,3:look=1,2,3': look is the same "
+                          "point as eye")) << e;
+  EXPECT_EQ(o.camera, "");  // nothing was half-applied
+  // Options built in code are checked by validate_options.
+  o.camera = "eye=0,0,0:look=1,0,0:fov=200";
+  e = error_of([&] { validate_options(o); });
+  EXPECT_TRUE(contains(e, "option camera = 'eye=0,0,0:look=1,0,0:fov=200': fov 200 is outside"))
+      << e;
 }
 
 }  // namespace

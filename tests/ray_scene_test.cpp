@@ -308,6 +308,32 @@ TEST(RayScene, AgreesWithDoublePrecisionReferenceOnRandomSoup) {
   EXPECT_EQ(disagree, 0);
 }
 
+TEST(RayScene, FastBuildGivesTheSameHitsAndNormalsFollowVertexOrder) {
+  const Soup s = random_triangles(300, 13);
+  const RayScene quality = s.build();
+  const RayScene fast(s.vertices, s.indices, s.polys, RayScene::Build::Fast);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uni(-0.1, 1.1);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p(uni(rng), uni(rng), uni(rng)), d = Vec3(uni(rng), uni(rng), uni(rng)) - p;
+    const auto a = quality.intersect(p, d), b = fast.intersect(p, d);
+    ASSERT_EQ(a.has_value(), b.has_value()) << i;
+    if (!a) continue;
+    ++hits;
+    EXPECT_EQ(a->prim, b->prim) << i;
+    EXPECT_NEAR(a->t, b->t, 1e-9) << i;
+  }
+  EXPECT_GT(hits, 250);
+  // normal(): the unit normal by the right-hand rule over the vertex order.
+  const RayScene two = square_and_triangle().build();
+  EXPECT_NEAR((two.normal(0) - Vec3::UnitZ()).norm(), 0, 1e-15);
+  EXPECT_NEAR((two.normal(1) - Vec3::UnitZ()).norm(), 0, 1e-15);
+  const auto hit = two.intersect({0.5, 0.5, 1}, {0, 0, -1});
+  ASSERT_TRUE(hit);
+  EXPECT_LT(Vec3(0, 0, -1).dot(two.normal(hit->prim)), 0);  // the front, from above
+}
+
 TEST(RayScene, ConcurrentQueriesGiveTheSerialAnswers) {
   const Soup s = random_triangles(2000, 21);
   const RayScene rs = s.build();
