@@ -119,9 +119,10 @@ TEST(PushWeights, AdjacentWallFavoursTheNearChildren) {
   const auto unlinked = room.h.subdivide(*other, 0, room.locks);
   update_push_weights(room.h.elements(), room.transport, 1);
   for (const Element& c : unlinked) EXPECT_EQ(c.push_weight, 1.0f);
-  for (Element* e : room.h.elements())
-    if (e->is_cluster())
-      for (const Element& c : e->child_span()) EXPECT_EQ(c.push_weight, 1.0f);
+  for (Element* e : room.h.elements()) {
+    if (!e->is_cluster()) continue;
+    for (const Element& c : e->child_span()) EXPECT_EQ(c.push_weight, 1.0f);
+  }
 }
 
 }  // namespace
