@@ -36,7 +36,7 @@ double point_weight(const Vec3& x, const Vec3& n, const Element& s, const Transp
 // visibility, and for `light` the sources' radiosity (all channels; the geometric
 // weights when every source is dark), each set normalised to an open-area mean of 1
 // over the children (which also takes out the difference between the centre values and
-// the links' own quadrature on average).
+// the links' own quadrature on average). A chain without links leaves both at 1.
 void weigh_children(const Element& p, const Transport& transport, bool any_light,
                     std::vector<std::pair<const Element*, double>>& chain, float* light,
                     float* geometry) {
@@ -44,6 +44,7 @@ void weigh_children(const Element& p, const Transport& transport, bool any_light
   chain.clear();
   for (const Element* a = &p; a != nullptr && !a->is_cluster(); a = a->parent)
     for (const Link& l : a->links) chain.emplace_back(l.source, static_cast<double>(l.visibility));
+  if (chain.empty()) return;
   double open_area = 0, by_light = 0, by_geometry = 0;
   for (std::size_t k = 0; k < kids.size(); ++k) {
     const Element& c = kids[k];
@@ -93,14 +94,9 @@ void PushWeights::update(const std::vector<Element*>& elements, const Transport&
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const Element& p = *parents_[static_cast<std::size_t>(i)];
     if (p.is_cluster()) continue;
-    bool linked = false;  // links on P or a surface ancestor
-    for (const Element* a = &p; a != nullptr && !a->is_cluster() && !linked; a = a->parent)
-      linked = !a->links.empty();
-    if (!linked) continue;
     const std::size_t at = offset_[static_cast<std::size_t>(i)];
     weigh_children(p, transport, any_light, chain, &light_[at], &geometry_[at]);
   }
-  apply(true);
 }
 
 void PushWeights::apply(bool geometric) const {

@@ -51,8 +51,8 @@ class Transport;
 class PushWeights {
  public:
   /// Computes both sets for `elements` (all of the hierarchy's elements, in any order)
-  /// on `threads` threads and applies the geometric one. The hierarchy's children
-  /// must not change before the last apply().
+  /// on `threads` threads; nothing is applied yet. The hierarchy's children must not
+  /// change before the last apply().
   void update(const std::vector<Element*>& elements, const Transport& transport, int threads);
   /// Writes one set into every child's push_weight.
   void apply(bool geometric) const;

@@ -1,11 +1,10 @@
 #include "core/scene_builder.h"
 
-#include <algorithm>
-#include <cstring>
-
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace hrad {
 

@@ -262,7 +262,8 @@ RunStats Solver::run() {
     // measures them with the light weights (in a furnace, normalize is then exact).
     PushWeights push_weights;
     push_weights.update(elements, m.transport, o.threads);
-    if (m.row_sum_mode != RowSumMode::Keep) push_weights.apply(false);
+    const bool geometric_row_sums = m.row_sum_mode == RowSumMode::Keep;
+    push_weights.apply(geometric_row_sums);
     is.rays_cast += open.rays_cast;
     is.open_rays = open.rays_cast;
     is.open_area_fraction = open.area_fraction;
@@ -274,7 +275,7 @@ RunStats Solver::run() {
     is.row_sum_mean = rs.area_mean;
     is.row_sum_within_band = rs.within_band;
     is.row_sum_corrected = rs.corrected;
-    push_weights.apply(false);
+    if (geometric_row_sums) push_weights.apply(false);
     // Every task was a reloaded link accepted again (no link created, none split): the
     // link set is the previous iteration's, and the next iterations would repeat this
     // one (up to an oracle decision that the radiosity's last digits could flip). So it
