@@ -3,6 +3,7 @@
 #include "core/camera_spec.h"
 #include "core/ray_scene.h"
 #include "core/render.h"
+#include "core/transport.h"
 
 #include <fmt/format.h>
 
@@ -28,17 +29,6 @@ constexpr double kMaxBackShare = 0.25;       // of the hits; more: inside a soli
 constexpr double kMinClearance = 0.005;      // of the diagonal
 constexpr double kEnclosedEscape = 0.04;     // of the rays; at most this: enclosed
 constexpr std::uint64_t kSeed = 0x5eed0fca3e7aULL;
-
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-double uniform(std::uint64_t& state) {
-  return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53;
-}
 
 /// kSphereRays unit directions spread evenly over the sphere (a Fibonacci lattice).
 std::vector<Vec3> sphere_directions() {
@@ -145,14 +135,15 @@ AutoCamera choose(const Scene& scene, const RayScene& rays) {
 
   // 1. Candidates, one per grid cell, jittered within the central 70% of the cell.
   std::vector<Candidate> candidates;
-  std::uint64_t state = kSeed;
+  std::uint64_t draw = 0;  // the next of hashed_uniform's stream kSeed
   for (int i = 0; i < kGrid; ++i)
     for (int j = 0; j < kGrid; ++j)
       for (int k = 0; k < kGrid; ++k) {
         Candidate c;
         const int cell[3] = {i, j, k};
         for (int a = 0; a < 3; ++a)
-          c.eye[a] = box.lo[a] + extent[a] * (cell[a] + 0.15 + 0.7 * uniform(state)) / kGrid;
+          c.eye[a] =
+              box.lo[a] + extent[a] * (cell[a] + 0.15 + 0.7 * hashed_uniform(kSeed, draw++)) / kGrid;
         candidates.push_back(c);
       }
 
