@@ -1,10 +1,10 @@
 #include "core/builtin_scenes.h"
 
 #include "core/input_error.h"
+#include "core/parse_number.h"
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 #include <stdexcept>
 
@@ -40,14 +40,6 @@ std::string known_params(const BuiltinInfo& info) {
   std::string s;
   for (const BuiltinParam& p : info.params) s += (s.empty() ? "" : ", ") + p.name;
   return s.empty() ? "(none)" : s;
-}
-
-/// A finite number spelled in full (no trailing junk, no inf/nan).
-bool parse_number(std::string_view text, double& out) {
-  if (text.empty()) return false;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, out);
-  return ec == std::errc() && ptr == end && std::isfinite(out);
 }
 
 }  // namespace
@@ -125,7 +117,7 @@ ParsedSpec parse_spec(const std::string& spec) {
     if (given[key]) throw fail(fmt::format("parameter '{}' is given twice", key));
     given[key] = true;
     double v = 0;
-    if (!parse_number(text, v))
+    if (!parse_finite_number(text, v))
       throw fail(fmt::format("parameter '{}': '{}' is not a number", key, text));
     if (param->integer && v != std::floor(v))
       throw fail(fmt::format("parameter '{}': '{}' is not an integer", key, text));

@@ -2,12 +2,12 @@
 
 #include "core/input_error.h"
 #include "core/json_input.h"
+#include "core/parse_number.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -18,12 +18,6 @@ namespace hrad {
 namespace {
 
 constexpr const char* kParts = "eye=X,Y,Z, look=X,Y,Z, up=X,Y,Z, fov=DEG";
-
-bool parse_double(std::string_view text, double& out) {
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, out);
-  return !text.empty() && ec == std::errc() && ptr == end && std::isfinite(out);
-}
 
 std::vector<std::string_view> split(std::string_view text, char sep) {
   std::vector<std::string_view> parts;
@@ -77,7 +71,7 @@ CameraSpec parse_camera_spec(std::string_view text) {
     if (twice) throw std::invalid_argument(fmt::format("{} is given twice", name));
     if (name == "fov") {
       double fov = 0;
-      if (!parse_double(value, fov))
+      if (!parse_finite_number(value, fov))
         throw std::invalid_argument(
             fmt::format("'{}': '{}' is not a number", brief_text(part), brief_text(value)));
       if (const std::string e = fov_error(fov); !e.empty()) throw std::invalid_argument(e);
@@ -90,7 +84,7 @@ CameraSpec parse_camera_spec(std::string_view text) {
                                               brief_text(part), name, numbers.size()));
     Vec3 v;
     for (int i = 0; i < 3; ++i)
-      if (!parse_double(numbers[i], v[i]))
+      if (!parse_finite_number(numbers[i], v[i]))
         throw std::invalid_argument(fmt::format("'{}': '{}' is not a finite number",
                                                 brief_text(part), brief_text(numbers[i])));
     if (name == "eye") {
@@ -144,7 +138,7 @@ CameraSpec read_view_file(const std::filesystem::path& path) {
                                    want == 1 ? "" : "s", values.size()));
     std::array<double, 3> v{};
     for (std::size_t i = 0; i < want; ++i)
-      if (!parse_double(values[i], v[i]))
+      if (!parse_finite_number(values[i], v[i]))
         throw InputError(file, number,
                          fmt::format("'{}' is not a finite number", brief_text(values[i])));
     const Vec3 p(v[0], v[1], v[2]);
