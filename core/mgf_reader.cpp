@@ -174,7 +174,7 @@ class MgfParser {
   std::vector<XfFrame> xf_;
   std::uint64_t xf_ids_ = 0;
   std::unordered_map<VertexKey, std::uint32_t, VertexKeyHash> vertex_cache_;
-  std::map<std::tuple<std::string, double, double, double, double, double, double>,
+  std::map<std::tuple<std::string, double, double, double, double, double, double, bool>,
            std::uint32_t>
       material_cache_;
   std::int64_t work_ = 0;
@@ -523,8 +523,9 @@ std::uint32_t MgfParser::material(const SourceLoc& at) {
                                        std::numeric_limits<double>::infinity());
   m.reflectance = r.rgb;
   m.emission = em.rgb;
+  m.two_sided = e.value.sides == 2;
   const auto key = std::make_tuple(m.name, r.rgb[0], r.rgb[1], r.rgb[2], em.rgb[0], em.rgb[1],
-                                   em.rgb[2]);
+                                   em.rgb[2], m.two_sided);
   auto it = material_cache_.find(key);
   if (it == material_cache_.end()) {
     it = material_cache_.emplace(key, builder_.add_material(std::move(m), at)).first;

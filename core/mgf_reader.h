@@ -21,7 +21,8 @@
 // | rd, ed              | diffuse reflectance (0..1) / emittance (lm/m^2), with the       |
 // |                     | colour current at that moment; converted and gamut-mapped as in |
 // |                     | mgf_color.h (one counted warning for the mapped colours)        |
-// | sides {1|2}         | checked, not represented (Scene faces have no sidedness)        |
+// | sides {1|2}         | Material::two_sided (2, the MGF default for every material,     |
+// |                     | named or not); core/back_faces.h turns it into back faces      |
 // | td, rs, ts, ir      | checked, ignored (one counted warning)                          |
 // | v [id [= [tmpl]]]   | vertex contexts; p x y z, n dx dy dz set the current vertex     |
 // | f v1 v2 v3 ...      | polygon (SceneBuilder triangulates concave / non-planar ones)   |
@@ -31,7 +32,7 @@
 //
 // Vertices are taken untransformed and transformed when used (MGF's rule). A mirroring
 // transform reverses polygon winding so that surfaces keep facing the mirrored way.
-// Faces before any `m` get SceneBuilder::default_material() (counted warning).
+// Faces before any `m` get SceneBuilder::default_material() (counted warning; one-sided).
 // The Scene's name is the file's stem; its units are the file's (MGF says metres).
 #pragma once
 
