@@ -153,7 +153,7 @@ class MgfParser {
   void material_entity(Args t, const SourceLoc& at);
   void face(Args names, const SourceLoc& at);
   void primitive(Args t, const SourceLoc& at);
-  void emit(const PolygonList& polys, const SourceLoc& at);
+  void emit(const ShapeMesh& mesh, const SourceLoc& at);
   const MgfVertex& vertex(std::string_view name, const SourceLoc& at) {
     return vertices_.get(name, at).value;
   }
@@ -554,15 +554,19 @@ void MgfParser::face(Args names, const SourceLoc& at) {
   builder_.add_polygon(idx, material(at), at);
 }
 
-void MgfParser::emit(const PolygonList& polys, const SourceLoc& at) {
-  charge(static_cast<std::int64_t>(polys.size()), at);
+// A shape's points are transformed and added once, so that its facets share them.
+void MgfParser::emit(const ShapeMesh& mesh, const SourceLoc& at) {
+  charge(static_cast<std::int64_t>(mesh.polygons.size()), at);
   const Affine w = world();
-  std::vector<Vec3> pts;
-  for (const auto& poly : polys) {
-    pts.clear();
-    for (const Vec3& p : poly) pts.push_back(w * p);
-    if (mirrored()) std::reverse(pts.begin(), pts.end());
-    builder_.add_polygon(std::span<const Vec3>(pts), material(at), at);
+  std::vector<std::uint32_t> index;
+  index.reserve(mesh.points.size());
+  for (const Vec3& p : mesh.points) index.push_back(builder_.add_vertex(w * p, at));
+  std::vector<std::uint32_t> idx;
+  for (const auto& poly : mesh.polygons) {
+    idx.clear();
+    for (std::uint32_t i : poly) idx.push_back(index[i]);
+    if (mirrored()) std::reverse(idx.begin(), idx.end());
+    builder_.add_polygon(idx, material(at), at);
   }
 }
 
