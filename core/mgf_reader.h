@@ -26,7 +26,9 @@
 // | td, rs, ts, ir      | checked, ignored (one counted warning)                          |
 // | v [id [= [tmpl]]]   | vertex contexts; p x y z, n dx dy dz set the current vertex     |
 // | f v1 v2 v3 ...      | polygon (SceneBuilder triangulates concave / non-planar ones)   |
-// | sph cyl cone ring   | tessellated with MgfOptions::segments (see mgf_shapes.h)        |
+// | sph cyl cone ring   | tessellated (mgf_shapes.h) with MgfOptions::segments, by default |
+// |                     | by the shape's size against the scene's (mgf_segments.h); kept |
+// |                     | until the end of the scene, polygons in file order           |
 // | torus prism         |                                                                 |
 // | anything else       | ignored with a counted warning (the spec's rule for new entities)|
 //
@@ -45,8 +47,10 @@
 namespace hrad {
 
 struct MgfOptions {
-  /// Divisions of a full circle for sph, cyl, cone, ring, torus; in [3, 4096].
-  int segments = 16;
+  /// Divisions of a full circle for sph, cyl, cone, ring, torus: 0 for the automatic
+  /// rule of core/mgf_segments.h (each shape's radius against the scene's diagonal),
+  /// else in [3, 4096] for every shape.
+  int segments = 0;
   /// Deepest include nesting; deeper (e.g. a file including itself) is an InputError.
   int max_include_depth = 32;
   /// Largest instance count of one `-a N`, and largest `-i N`.

@@ -40,7 +40,7 @@
 // | sides               | string | "auto"       | back faces for two-sided materials (core/back_faces.h):    |
 // |                     |        |              | auto (MGF sides 2), one (none), two (every face)           |
 // | segments            | int    | 0            | divisions of a circle for MGF sph, cyl, cone, ring, torus: |
-// |                     |        |              | 0: the reader's default (16), or 3..4096                  |
+// |                     |        |              | 0 by the shape's size (core/mgf_segments.h), or 3..4096    |
 #pragma once
 
 #include <cstdint>

@@ -81,8 +81,8 @@ const std::vector<Row>& rows() {
        "back faces for two-sided materials: auto (MGF sides 2; OBJ and built-in scenes "
        "one-sided), one (none: every face one-sided), two (every face two-sided)"},
       {"segments", &S::segments,
-       "divisions of a full circle for MGF sph, cyl, cone, ring and torus (0: the "
-       "reader's default, 16)"},
+       "divisions of a full circle for MGF sph, cyl, cone, ring and torus (0: by each "
+       "shape's radius against the scene's diagonal, 16 to 128)"},
   };
   return table;
 }

@@ -40,7 +40,7 @@ Scene load_scene(const std::string& spec, const SceneLoadOptions& options) {
     scene = read_obj(spec);
   } else {
     MgfOptions mgf;
-    if (options.segments > 0) mgf.segments = options.segments;
+    mgf.segments = options.segments;
     scene = read_mgf(spec, mgf);
   }
   add_back_faces(scene, options.sides);

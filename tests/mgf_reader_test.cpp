@@ -2,6 +2,7 @@
 
 #include "core/input_error.h"
 #include "core/mgf_color.h"
+#include "core/mgf_segments.h"
 #include "core/mgf_shapes.h"
 
 #include <gtest/gtest.h>
@@ -293,8 +294,40 @@ TEST(MgfPrimitives, OpenShapesHaveOnlyTheirRimsOpen) {
   }
 }
 
+TEST(MgfSegments, RuleFollowsTheShapeAgainstTheScene) {
+  // The rule itself: chords of at most 2 % of the diagonal, clamped to [16, 128].
+  EXPECT_EQ(automatic_segments(0.001, 10), kMinSegments);
+  EXPECT_EQ(automatic_segments(1e6, 10), kMaxSegments);
+  EXPECT_EQ(automatic_segments(40 * 0.02 * 10 / (2 * kPi), 10), 40);
+  EXPECT_EQ(automatic_segments(1, 0), kMinSegments);
+  // A big sphere and a small one 10 apart: D from both spheres' exact extents.
+  const std::string two = prelude() + "v far =\n p 10 0 0\nsph c 2\nsph far 0.1\n";
+  const double diagonal = Vec3(12.1, 4, 4).norm();
+  const int big = static_cast<int>(std::ceil(2 * kPi * 2 / (kSegmentEdge * diagonal)));
+  ASSERT_EQ(big, 48);
+  MgfOptions automatic;  // segments = 0
+  const Scene s = parse_mgf(two, "t.mgf", automatic);
+  EXPECT_EQ(s.faces.size(), static_cast<std::size_t>(big * big / 2 + 16 * 8));
+  EXPECT_NEAR(s.bounds().diagonal(), diagonal, 1e-12);
+  // Scale-invariant: the same scene 1000 times larger (and rotated) is cut the same.
+  const Scene scaled =
+      parse_mgf("xf -s 1000 -rx 30\n" + two + "xf\n", "t.mgf", automatic);
+  EXPECT_EQ(scaled.faces.size(), s.faces.size());
+  // A fixed count overrides the rule for every shape.
+  EXPECT_EQ(parse(two, 16).faces.size(), 2u * 16 * 8);
+  // Polygons keep their file order around the deferred shapes.
+  const Scene order = parse_mgf(prelude() + "v a =\n p 5 5 5\nv b =\n p 6 5 5\nv d =\n p 5 6 5\n"
+                                "f a b d\nsph c 1\nf d b a\n",
+                                "t.mgf", automatic);
+  EXPECT_NEAR(order.face_normal(0).z(), 1.0, 1e-12);
+  EXPECT_NEAR(order.face_normal(order.faces.size() - 1).z(), -1.0, 1e-12);
+  EXPECT_NEAR(order.face_vertices(order.faces.size() - 1)[0].x(), 5.0, 1e-12);
+}
+
 TEST(MgfFiles, PrimitivesFileCountsEveryPiece) {
-  const Scene s = read_mgf(data("primitives.mgf"));
+  MgfOptions sixteen;
+  sixteen.segments = 16;
+  const Scene s = read_mgf(data("primitives.mgf"), sixteen);
   // sph 16x8, cyl 16, cone 16, ring 16, torus 16x16, prism 6, emitting disk 16.
   EXPECT_EQ(s.faces.size(), 128u + 16 + 16 + 16 + 256 + 6 + 16);
   EXPECT_EQ(s.emitter_count(), 16u);
