@@ -37,6 +37,11 @@
 // | camera              | string | ""           | render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=..][:fov=..] |
 // |                     |        |              | (core/camera_spec.h), "auto", or "" (the scene's own, else |
 // |                     |        |              | automatic)                                                 |
+// | shading             | string | "smooth"     | render.png and solution.ply: smooth (vertex values shared  |
+// |                     |        |              | across leaves of one surface) or flat                      |
+// |                     |        |              | (core/smooth_shading.h)                                    |
+// | exposure            | double | 0            | render.png's exposure, in stops over the automatic one     |
+// |                     |        |              | (core/render.h): +1 twice as bright, -1 half               |
 #pragma once
 
 #include <cstdint>
@@ -70,6 +75,8 @@ struct SolverOptions {
   std::string shaft_culling = "off";
   double max_memory_gb = 0;
   std::string camera;
+  std::string shading = "smooth";
+  double exposure = 0;
 };
 
 }  // namespace hrad

@@ -77,6 +77,11 @@ const std::vector<Row>& rows() {
        "render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG], auto, or empty (the "
        "scene's own, else automatic)",
        &check_camera_text},
+      {"shading", &S::shading,
+       "render.png and solution.ply: smooth (one value per vertex and surface, continuous "
+       "across leaves) or flat (each leaf its own constant)"},
+      {"exposure", &S::exposure,
+       "render.png's exposure in stops over the automatic exposure (+1: twice as bright)"},
   };
   return table;
 }
@@ -324,6 +329,9 @@ void validate_options(const SolverOptions& o) {
   check(o.effects == "auto" || o.effects == "all", "effects", o.effects, "auto or all");
   check(o.shaft_culling == "on" || o.shaft_culling == "off", "shaft_culling", o.shaft_culling,
         "on or off");
+  check(o.shading == "smooth" || o.shading == "flat", "shading", o.shading, "smooth or flat");
+  check(std::isfinite(o.exposure) && std::abs(o.exposure) <= 64, "exposure", str(o.exposure),
+        "a number of stops between -64 and 64");
   for (const Row& r : rows())
     if (r.check_text) std::visit([&](auto member) { check_syntax(r, o.*member, ""); }, r.member);
 }
