@@ -6,6 +6,7 @@
 #include "core/cie_observer.h"
 #include "core/mgf_color.h"
 #include "core/mgf_context.h"
+#include "core/mgf_segments.h"
 #include "core/mgf_shapes.h"
 #include "core/mgf_xform.h"
 #include "core/scene_builder.h"
@@ -122,6 +123,28 @@ struct VertexKeyHash {
   }
 };
 
+// A primitive, kept until the scene's size is known (its segment count depends on it,
+// core/mgf_segments.h): its arguments in its own frame, the transform and material
+// current at its line, and the radius (in world units) its count follows.
+struct PendingShape {
+  std::string_view kind;  ///< "sph", "cyl", "cone", "ring", "torus", "prism"
+  Vec3 a = Vec3::Zero(), b = Vec3::Zero(), n = Vec3::Zero();
+  double r0 = 0, r1 = 0;
+  std::vector<Vec3> base;  ///< prism
+  Affine world = Affine::Identity();
+  bool mirrored = false;
+  double radius = 0;  ///< world units
+};
+
+// A face or a shape, in file order: the polygons reach SceneBuilder in that order.
+struct PendingPolygon {
+  std::vector<std::uint32_t> face;  ///< vertex indices, already in world order
+  std::int64_t shape = -1;          ///< index into the shapes, or -1 for a face
+  std::uint32_t material = 0;
+  const std::string* file = nullptr;
+  int line = 0;
+};
+
 class MgfParser {
  public:
   MgfParser(const std::string& name, const std::string& source, const MgfOptions& opt)
@@ -153,7 +176,10 @@ class MgfParser {
   void material_entity(Args t, const SourceLoc& at);
   void face(Args names, const SourceLoc& at);
   void primitive(Args t, const SourceLoc& at);
-  void emit(const PolygonList& polys, const SourceLoc& at);
+  void emit(const ShapeMesh& mesh, std::uint32_t material, const Affine& world, bool mirrored,
+            const SourceLoc& at);
+  void defer_shape(PendingShape shape, const Aabb& world_bounds, const SourceLoc& at);
+  ShapeMesh tessellate(const PendingShape& s, int segments) const;
   const MgfVertex& vertex(std::string_view name, const SourceLoc& at) {
     return vertices_.get(name, at).value;
   }
@@ -174,10 +200,14 @@ class MgfParser {
   std::vector<XfFrame> xf_;
   std::uint64_t xf_ids_ = 0;
   std::unordered_map<VertexKey, std::uint32_t, VertexKeyHash> vertex_cache_;
-  std::map<std::tuple<std::string, double, double, double, double, double, double>,
+  std::map<std::tuple<std::string, double, double, double, double, double, double, bool>,
            std::uint32_t>
       material_cache_;
   std::int64_t work_ = 0;
+  std::vector<PendingPolygon> pending_;
+  std::vector<PendingShape> shapes_;
+  Aabb bounds_;  ///< of the faces' vertices and every shape's extent (world)
+  const std::string* file_ = nullptr;  ///< the file being read (stable: sources_ owns it)
   int object_depth_ = 0;
   // Counted warnings.
   std::map<std::string, std::size_t, std::less<>> unknown_;
@@ -249,6 +279,8 @@ void MgfParser::run(const Source& src, int depth) {
   const std::size_t base = xf_.size();
   const XfLimits lim{opt_.max_array, opt_.max_repeat};
   SourceLoc at{src.path, 0};
+  const std::string* outer_file = file_;
+  file_ = &src.path;
   std::vector<std::string_view> t;
   for (std::size_t k = 0; k < src.entities.size(); ++k) {
     const Entity& e = src.entities[k];
@@ -273,6 +305,7 @@ void MgfParser::run(const Source& src, int depth) {
     }
     xf_.pop_back();
   }
+  file_ = outer_file;
   while (xf_.size() > base) {
     if (xf_.back().spec.has_array())
       throw InputError(src.path, xf_.back().line,
@@ -523,8 +556,9 @@ std::uint32_t MgfParser::material(const SourceLoc& at) {
                                        std::numeric_limits<double>::infinity());
   m.reflectance = r.rgb;
   m.emission = em.rgb;
+  m.two_sided = e.value.sides == 2;
   const auto key = std::make_tuple(m.name, r.rgb[0], r.rgb[1], r.rgb[2], em.rgb[0], em.rgb[1],
-                                   em.rgb[2]);
+                                   em.rgb[2], m.two_sided);
   auto it = material_cache_.find(key);
   if (it == material_cache_.end()) {
     it = material_cache_.emplace(key, builder_.add_material(std::move(m), at)).first;
@@ -540,7 +574,9 @@ std::uint32_t MgfParser::vertex_index(std::string_view name, const SourceLoc& at
   const MgfEntry<MgfVertex>& v = vertices_.get(name, at);
   const VertexKey key{v.clock, xf_id()};
   if (const auto it = vertex_cache_.find(key); it != vertex_cache_.end()) return it->second;
-  const std::uint32_t i = builder_.add_vertex(world() * v.value.p, at);
+  const Vec3 p = world() * v.value.p;
+  const std::uint32_t i = builder_.add_vertex(p, at);
+  bounds_.extend(p);
   vertex_cache_.emplace(key, i);
   return i;
 }
@@ -550,24 +586,71 @@ void MgfParser::face(Args names, const SourceLoc& at) {
   idx.reserve(names.size());
   for (std::string_view n : names) idx.push_back(vertex_index(n, at));
   if (mirrored()) std::reverse(idx.begin(), idx.end());
-  builder_.add_polygon(idx, material(at), at);
+  PendingPolygon f;
+  f.face = std::move(idx);
+  f.material = material(at);
+  f.file = file_;
+  f.line = at.line;
+  pending_.push_back(std::move(f));
 }
 
-void MgfParser::emit(const PolygonList& polys, const SourceLoc& at) {
-  charge(static_cast<std::int64_t>(polys.size()), at);
-  const Affine w = world();
-  std::vector<Vec3> pts;
-  for (const auto& poly : polys) {
-    pts.clear();
-    for (const Vec3& p : poly) pts.push_back(w * p);
-    if (mirrored()) std::reverse(pts.begin(), pts.end());
-    builder_.add_polygon(std::span<const Vec3>(pts), material(at), at);
+// A shape's points are transformed and added once, so that its facets share them.
+void MgfParser::emit(const ShapeMesh& mesh, std::uint32_t material, const Affine& world,
+                     bool mirrored, const SourceLoc& at) {
+  charge(static_cast<std::int64_t>(mesh.polygons.size()), at);
+  std::vector<std::uint32_t> index;
+  index.reserve(mesh.points.size());
+  for (const Vec3& p : mesh.points) index.push_back(builder_.add_vertex(world * p, at));
+  std::vector<std::uint32_t> idx;
+  for (const auto& poly : mesh.polygons) {
+    idx.clear();
+    for (std::uint32_t i : poly) idx.push_back(index[i]);
+    if (mirrored) std::reverse(idx.begin(), idx.end());
+    builder_.add_polygon(idx, material, at);
   }
+}
+
+void MgfParser::defer_shape(PendingShape shape, const Aabb& world_bounds, const SourceLoc& at) {
+  // The shape's points will lie in these bounds: refuse them here, at its line, if they
+  // would not fit a scene (as SceneBuilder::add_vertex would when it is tessellated).
+  for (const Vec3& corner : {world_bounds.lo, world_bounds.hi})
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(corner[i]) || std::abs(corner[i]) > 1e30)
+        throw InputError(at.file, at.line,
+                         fmt::format("{}: the shape reaches a coordinate beyond +-1e30",
+                                     shape.kind));
+  bounds_.extend(world_bounds);
+  shape.world = world();
+  shape.mirrored = mirrored();
+  PendingPolygon p;
+  p.shape = static_cast<std::int64_t>(shapes_.size());
+  p.material = material(at);
+  p.file = file_;
+  p.line = at.line;
+  shapes_.push_back(std::move(shape));
+  pending_.push_back(std::move(p));
+}
+
+ShapeMesh MgfParser::tessellate(const PendingShape& s, int n) const {
+  if (s.kind == "sph") return tessellate_sphere(s.a, s.r0, n);
+  if (s.kind == "cyl" || s.kind == "cone") return tessellate_cone(s.a, s.r0, s.b, s.r1, n);
+  if (s.kind == "ring") return tessellate_ring(s.a, s.n, s.r0, s.r1, n);
+  if (s.kind == "torus") return tessellate_torus(s.a, s.n, s.r0, s.r1, n);
+  return tessellate_prism(s.base, s.r0);
 }
 
 void MgfParser::primitive(Args t, const SourceLoc& at) {
   const std::string_view kw = t[0];
-  const int n = opt_.segments;
+  // World frame: MGF transforms are rigid with a uniform scale s.
+  const Affine w = world();
+  const double scale = std::cbrt(std::abs(w.linear().determinant()));
+  const auto kind_of = [&]() -> std::string_view {
+    for (std::string_view k : {"sph", "cyl", "cone", "ring", "torus", "prism"})
+      if (kw == k) return k;
+    return "prism";
+  };
+  PendingShape shape;
+  shape.kind = kind_of();
   auto fail = [&](std::string_view why) {
     throw InputError(at.file, at.line, fmt::format("{}: {}", kw, why));
   };
@@ -585,7 +668,14 @@ void MgfParser::primitive(Args t, const SourceLoc& at) {
     const Vec3 c = vertex(t[1], at).p;
     const double r = number(t[2], at, kw);
     if (r == 0) fail("the radius is zero");
-    emit(tessellate_sphere(c, r, n), at);
+    shape.a = c;
+    shape.r0 = r;
+    shape.radius = scale * std::abs(r);
+    const Vec3 half = Vec3::Constant(shape.radius);
+    Aabb box;
+    box.extend(w * c - half);
+    box.extend(w * c + half);
+    defer_shape(std::move(shape), box, at);
   } else if (kw == "cyl" || kw == "cone") {
     const bool cyl = kw == "cyl";
     need(t, cyl ? 3 : 4, at, cyl ? "cyl v1 radius v2" : "cone v1 rad1 v2 rad2");
@@ -594,18 +684,42 @@ void MgfParser::primitive(Args t, const SourceLoc& at) {
     if (ra == 0 && rb == 0) fail("both radii are zero");
     if ((ra < 0 && rb > 0) || (ra > 0 && rb < 0)) fail("the radii have opposite signs");
     axis(a, b);
-    emit(tessellate_cone(a, ra, b, rb, n), at);
+    shape.a = a;
+    shape.b = b;
+    shape.r0 = ra;
+    shape.r1 = rb;
+    shape.radius = scale * std::max(std::abs(ra), std::abs(rb));
+    const Vec3 dir = w.linear() * (b - a);
+    Aabb box = circle_bounds(w * a, dir, scale * ra);
+    box.extend(circle_bounds(w * b, dir, scale * rb));
+    defer_shape(std::move(shape), box, at);
   } else if (kw == "ring" || kw == "torus") {
     need(t, 3, at, fmt::format("{} vc rmin rmax", kw));
     const Vec3 c = vertex(t[1], at).p;
     const double r0 = number(t[2], at, kw), r1 = number(t[3], at, kw);
     if (kw == "ring") {
       if (!(r0 >= 0 && r1 > r0)) fail("need 0 <= rmin < rmax");
-      emit(tessellate_ring(c, normal_of(t[1]), r0, r1, n), at);
+      shape.n = normal_of(t[1]);
+      shape.radius = scale * r1;
+      const Aabb box = circle_bounds(w * c, w.linear() * shape.n, shape.radius);
+      shape.a = c;
+      shape.r0 = r0;
+      shape.r1 = r1;
+      defer_shape(std::move(shape), box, at);
     } else {
       if ((r0 < 0 && r1 > 0) || (r0 > 0 && r1 < 0) || !(std::abs(r1) > std::abs(r0)))
         fail("need |rmin| < |rmax| with the same sign (rmin may be 0)");
-      emit(tessellate_torus(c, normal_of(t[1]), r0, r1, n), at);
+      shape.n = normal_of(t[1]);
+      shape.radius = scale * std::abs(r1);
+      const double big = 0.5 * scale * (std::abs(r1) + std::abs(r0));
+      const double tube = 0.5 * scale * (std::abs(r1) - std::abs(r0));
+      Aabb box = circle_bounds(w * c, w.linear() * shape.n, big);
+      box.lo -= Vec3::Constant(tube);
+      box.hi += Vec3::Constant(tube);
+      shape.a = c;
+      shape.r0 = r0;
+      shape.r1 = r1;
+      defer_shape(std::move(shape), box, at);
     }
   } else {  // prism v1 v2 v3 ... length
     if (t.size() < 5) fail("expected 'prism v1 v2 v3 ... length'");
@@ -614,11 +728,32 @@ void MgfParser::primitive(Args t, const SourceLoc& at) {
     const double len = number(t.back(), at, kw);
     if (len == 0) fail("the length is zero");
     if (!(polygon_area(base) > 0)) fail("the base polygon has zero area");
-    emit(tessellate_prism(base, len), at);
+    const Vec3 off = -len * polygon_normal(base);
+    Aabb box;
+    for (const Vec3& p : base) {
+      box.extend(w * p);
+      box.extend(w * (p + off));
+    }
+    shape.base = std::move(base);
+    shape.r0 = len;
+    defer_shape(std::move(shape), box, at);
   }
 }
 
 Scene MgfParser::finish(const std::string& file) {
+  // The polygons in file order, each shape tessellated now that the scene's diagonal
+  // is known.
+  const double diagonal = bounds_.diagonal();
+  for (PendingPolygon& p : pending_) {
+    const SourceLoc at{*p.file, p.line};
+    if (p.shape < 0) {
+      builder_.add_polygon(p.face, p.material, at);
+      continue;
+    }
+    const PendingShape& s = shapes_[static_cast<std::size_t>(p.shape)];
+    const int n = opt_.segments > 0 ? opt_.segments : automatic_segments(s.radius, diagonal);
+    emit(tessellate(s, n), p.material, s.world, s.mirrored, at);
+  }
   if (!unknown_.empty()) {
     std::size_t total = 0;
     std::string list;
@@ -659,9 +794,9 @@ std::unique_ptr<Source> make_source(std::string path, fs::path dir, std::string 
 }
 
 void check_options(const MgfOptions& o) {
-  if (o.segments < 3 || o.segments > 4096)
-    throw std::invalid_argument(fmt::format("MgfOptions::segments {} is outside [3, 4096]",
-                                            o.segments));
+  if (o.segments != 0 && (o.segments < 3 || o.segments > 4096))
+    throw std::invalid_argument(fmt::format(
+        "MgfOptions::segments {} is neither 0 (automatic) nor in [3, 4096]", o.segments));
   if (o.max_include_depth < 0 || o.max_array < 1 || o.max_repeat < 0 || o.max_work < 1 ||
       o.max_instances < 1)
     throw std::invalid_argument("MgfOptions: a limit is out of range");

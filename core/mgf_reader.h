@@ -21,17 +21,20 @@
 // | rd, ed              | diffuse reflectance (0..1) / emittance (lm/m^2), with the       |
 // |                     | colour current at that moment; converted and gamut-mapped as in |
 // |                     | mgf_color.h (one counted warning for the mapped colours)        |
-// | sides {1|2}         | checked, not represented (Scene faces have no sidedness)        |
+// | sides {1|2}         | Material::two_sided (2, the MGF default for every material,     |
+// |                     | named or not); core/back_faces.h turns it into back faces      |
 // | td, rs, ts, ir      | checked, ignored (one counted warning)                          |
 // | v [id [= [tmpl]]]   | vertex contexts; p x y z, n dx dy dz set the current vertex     |
 // | f v1 v2 v3 ...      | polygon (SceneBuilder triangulates concave / non-planar ones)   |
-// | sph cyl cone ring   | tessellated with MgfOptions::segments (see mgf_shapes.h)        |
+// | sph cyl cone ring   | tessellated (mgf_shapes.h) with MgfOptions::segments, by default |
+// |                     | by the shape's size against the scene's (mgf_segments.h); kept |
+// |                     | until the end of the scene, polygons in file order           |
 // | torus prism         |                                                                 |
 // | anything else       | ignored with a counted warning (the spec's rule for new entities)|
 //
 // Vertices are taken untransformed and transformed when used (MGF's rule). A mirroring
 // transform reverses polygon winding so that surfaces keep facing the mirrored way.
-// Faces before any `m` get SceneBuilder::default_material() (counted warning).
+// Faces before any `m` get SceneBuilder::default_material() (counted warning; one-sided).
 // The Scene's name is the file's stem; its units are the file's (MGF says metres).
 #pragma once
 
@@ -44,8 +47,10 @@
 namespace hrad {
 
 struct MgfOptions {
-  /// Divisions of a full circle for sph, cyl, cone, ring, torus; in [3, 4096].
-  int segments = 16;
+  /// Divisions of a full circle for sph, cyl, cone, ring, torus: 0 for the automatic
+  /// rule of core/mgf_segments.h (each shape's radius against the scene's diagonal),
+  /// else in [3, 4096] for every shape.
+  int segments = 0;
   /// Deepest include nesting; deeper (e.g. a file including itself) is an InputError.
   int max_include_depth = 32;
   /// Largest instance count of one `-a N`, and largest `-i N`.

@@ -37,6 +37,10 @@
 // | camera              | string | ""           | render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=..][:fov=..] |
 // |                     |        |              | (core/camera_spec.h), "auto", or "" (the scene's own, else |
 // |                     |        |              | automatic)                                                 |
+// | sides               | string | "auto"       | back faces for two-sided materials (core/back_faces.h):    |
+// |                     |        |              | auto (MGF sides 2), one (none), two (every face)           |
+// | segments            | int    | 0            | divisions of a circle for MGF sph, cyl, cone, ring, torus: |
+// |                     |        |              | 0 by the shape's size (core/mgf_segments.h), or 3..4096    |
 // | shading             | string | "smooth"     | render.png and solution.ply: smooth (vertex values shared  |
 // |                     |        |              | across leaves of one surface) or flat                      |
 // |                     |        |              | (core/smooth_shading.h)                                    |
@@ -75,6 +79,8 @@ struct SolverOptions {
   std::string shaft_culling = "off";
   double max_memory_gb = 0;
   std::string camera;
+  std::string sides = "auto";
+  int segments = 0;
   std::string shading = "smooth";
   double exposure = 0;
 };

@@ -77,6 +77,12 @@ const std::vector<Row>& rows() {
        "render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG], auto, or empty (the "
        "scene's own, else automatic)",
        &check_camera_text},
+      {"sides", &S::sides,
+       "back faces for two-sided materials: auto (MGF sides 2; OBJ and built-in scenes "
+       "one-sided), one (none: every face one-sided), two (every face two-sided)"},
+      {"segments", &S::segments,
+       "divisions of a full circle for MGF sph, cyl, cone, ring and torus (0: by each "
+       "shape's radius against the scene's diagonal, 16 to 128)"},
       {"shading", &S::shading,
        "render.png and solution.ply: smooth (one value per vertex and surface, continuous "
        "across leaves) or flat (each leaf its own constant)"},
@@ -329,6 +335,10 @@ void validate_options(const SolverOptions& o) {
   check(o.effects == "auto" || o.effects == "all", "effects", o.effects, "auto or all");
   check(o.shaft_culling == "on" || o.shaft_culling == "off", "shaft_culling", o.shaft_culling,
         "on or off");
+  check(o.sides == "auto" || o.sides == "one" || o.sides == "two", "sides", o.sides,
+        "one of auto, one, two");
+  check(o.segments == 0 || (o.segments >= 3 && o.segments <= 4096), "segments",
+        str(o.segments), "0 (automatic) or between 3 and 4096");
   check(o.shading == "smooth" || o.shading == "flat", "shading", o.shading, "smooth or flat");
   check(std::isfinite(o.exposure) && std::abs(o.exposure) <= 64, "exposure", str(o.exposure),
         "a number of stops between -64 and 64");

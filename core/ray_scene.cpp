@@ -7,11 +7,14 @@
 // The scene is built with RTC_SCENE_FLAG_ROBUST (watertight traversal: no rays leak
 // through edges shared by neighbouring polygons) and high build quality, since hrad
 // casts many rays against a static scene (medium for RayScene::Build::Fast).
-// Ignored polygons (occluded()/intersect() arguments) are rejected by a per-query
-// filter: RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION plus an IgnoreContext that begins
-// with the RTCIntersectContext Embree sees. Queries that ignore nothing set no filter.
+// Ignored polygons (occluded()/intersect() arguments, with their twins) are rejected by
+// a per-query filter: RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION plus an IgnoreContext that
+// begins with the RTCIntersectContext Embree sees; the same filter rejects intersect()'s
+// hits on the back of a polygon that has a twin (the twin's front is met at the same
+// distance). Queries that need neither set no filter.
 #include "core/ray_scene.h"
 
+#include "core/face_twins.h"
 #include "core/scene.h"
 
 #include <embree3/rtcore.h>
@@ -64,7 +67,12 @@ struct IgnoreContext {
   const std::uint32_t* tri_poly = nullptr;
   const std::uint32_t* quad_poly = nullptr;
   unsigned quad_geom = RTC_INVALID_GEOMETRY_ID;
-  std::uint32_t ignore[2] = {RayScene::kNoPolygon, RayScene::kNoPolygon};
+  std::uint32_t ignore[4] = {RayScene::kNoPolygon, RayScene::kNoPolygon, RayScene::kNoPolygon,
+                             RayScene::kNoPolygon};
+  /// Set for intersect() in a scene with twins: reject hits on the back of a polygon
+  /// that has a twin. Polygon normals (world frame: the same directions) and twins.
+  const std::uint32_t* twin = nullptr;
+  const Vec3* normal = nullptr;
 };
 static_assert(std::is_standard_layout_v<IgnoreContext>);
 
@@ -76,7 +84,14 @@ void ignore_filter(const RTCFilterFunctionNArguments* args) {
     const unsigned geom = RTCHitN_geomID(args->hit, args->N, i);
     const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
     const std::uint32_t poly = geom == c->quad_geom ? c->quad_poly[prim] : c->tri_poly[prim];
-    if (poly == c->ignore[0] || poly == c->ignore[1]) args->valid[i] = 0;
+    if (poly == c->ignore[0] || poly == c->ignore[1] || poly == c->ignore[2] ||
+        poly == c->ignore[3]) {
+      args->valid[i] = 0;
+    } else if (c->twin && c->twin[poly] != RayScene::kNoPolygon) {
+      const Vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                   RTCRayN_dir_z(args->ray, args->N, i));
+      if (d.dot(c->normal[poly]) > 0) args->valid[i] = 0;
+    }
   }
 }
 
@@ -106,6 +121,8 @@ struct RayScene::Impl {
   // used to recompute hit distances in double precision. n is zero when degenerate.
   std::vector<Vec3> normal;
   std::vector<double> offset;
+  // Twin of each input polygon (kNoPolygon), empty when no polygon has one.
+  std::vector<std::uint32_t> twin;
 
   struct alignas(64) Stripe {
     std::atomic<std::uint64_t> rays{0};
@@ -136,15 +153,27 @@ struct RayScene::Impl {
                                          last_error.empty() ? error_name(e) : last_error));
   }
 
-  /// A context that ignores polygons a and b (no filter when both are kNoPolygon).
-  void init_context(IgnoreContext& c, std::uint32_t a, std::uint32_t b) const {
+  std::uint32_t twin_of(std::uint32_t p) const {
+    return p >= twin.size() ? kNoPolygon : twin[p];
+  }
+
+  /// A context that ignores polygons a and b and their twins, and with `front_of_twins`
+  /// the backs of polygons with a twin (no filter when there is nothing to reject).
+  void init_context(IgnoreContext& c, std::uint32_t a, std::uint32_t b,
+                    bool front_of_twins) const {
     rtcInitIntersectContext(&c.base);
     c.tri_poly = tri_poly.data();
     c.quad_poly = quad_poly.data();
     c.quad_geom = quad_geom;
     c.ignore[0] = a;
     c.ignore[1] = b;
-    if (a != kNoPolygon || b != kNoPolygon) c.base.filter = &ignore_filter;
+    c.ignore[2] = twin_of(a);
+    c.ignore[3] = twin_of(b);
+    if (front_of_twins && !twin.empty()) {
+      c.twin = twin.data();
+      c.normal = normal.data();
+    }
+    if (a != kNoPolygon || b != kNoPolygon || c.twin) c.base.filter = &ignore_filter;
   }
 
   void count_ray() const {
@@ -170,10 +199,23 @@ struct RayScene::Impl {
 };
 
 RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t> indices,
-                   std::span<const PolygonRange> polygons, Build build)
+                   std::span<const PolygonRange> polygons, Build build,
+                   std::span<const std::uint32_t> twins)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.polygons = polygons.size();
+  if (!twins.empty()) {
+    if (twins.size() != polygons.size())
+      throw std::invalid_argument("RayScene: the twin table needs one entry per polygon");
+    bool any = false;
+    for (std::size_t i = 0; i < twins.size(); ++i) {
+      if (twins[i] == kNoPolygon) continue;
+      if (twins[i] >= twins.size() || twins[i] == i || twins[twins[i]] != i)
+        throw std::invalid_argument(fmt::format("RayScene: polygon {}'s twin is not paired", i));
+      any = true;
+    }
+    if (any) m.twin.assign(twins.begin(), twins.end());
+  }
   for (const Vec3& p : vertices)
     if (!p.allFinite()) throw std::invalid_argument("RayScene: non-finite vertex coordinate");
 
@@ -264,7 +306,9 @@ RayScene RayScene::from_scene(const Scene& scene, Build build) {
   std::vector<PolygonRange> polys;
   polys.reserve(scene.faces.size());
   for (const Face& f : scene.faces) polys.push_back({f.first, f.count});
-  return RayScene(scene.vertices, scene.indices, polys, build);
+  const std::vector<std::uint32_t> twins = find_twins(scene);
+  static_assert(kNoTwin == kNoPolygon);
+  return RayScene(scene.vertices, scene.indices, polys, build, twins);
 }
 
 RayScene::RayScene(RayScene&&) noexcept = default;
@@ -274,6 +318,8 @@ RayScene::~RayScene() = default;
 double RayScene::scale() const { return impl_->diagonal; }
 
 std::size_t RayScene::polygon_count() const { return impl_->polygons; }
+
+std::uint32_t RayScene::twin(std::uint32_t poly) const { return impl_->twin_of(poly); }
 
 const Vec3& RayScene::normal(std::uint32_t poly) const { return impl_->normal.at(poly); }
 
@@ -296,7 +342,7 @@ bool RayScene::occluded(const Vec3& from, const Vec3& to, std::uint32_t ignore_a
   const double margin = kEndpointEpsilon / len;
 
   IgnoreContext ctx;
-  m.init_context(ctx, ignore_a, ignore_b);
+  m.init_context(ctx, ignore_a, ignore_b, /*front_of_twins=*/false);
   RTCRay ray;
   ray.org_x = static_cast<float>(o.x());
   ray.org_y = static_cast<float>(o.y());
@@ -332,7 +378,7 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
   const Vec3 u = d / len;
 
   IgnoreContext ctx;
-  m.init_context(ctx, ignore, kNoPolygon);
+  m.init_context(ctx, ignore, kNoPolygon, /*front_of_twins=*/true);
   RTCRayHit rh;
   rh.ray.org_x = static_cast<float>(o.x());
   rh.ray.org_y = static_cast<float>(o.y());

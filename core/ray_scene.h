@@ -64,9 +64,16 @@ class RayScene {
   /// build, somewhat slower rays) for a few thousand rays. Answers are the same.
   enum class Build { Quality, Fast };
 
+  ///
+  /// `twins` (empty, or one entry per polygon: the index of its twin or kNoPolygon,
+  /// symmetric; core/face_twins.h) pairs polygons that are the two sides of one sheet.
+  /// Ignoring one of a pair ignores both, and intersect() never reports the back of a
+  /// polygon that has a twin: the ray meets the twin's front there instead. Throws
+  /// std::invalid_argument when `twins` has the wrong size or is not symmetric.
   RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t> indices,
-           std::span<const PolygonRange> polygons, Build build = Build::Quality);
-  /// All faces of the scene; prim ids are face indices.
+           std::span<const PolygonRange> polygons, Build build = Build::Quality,
+           std::span<const std::uint32_t> twins = {});
+  /// All faces of the scene, with their twins (find_twins); prim ids are face indices.
   static RayScene from_scene(const Scene& scene, Build build = Build::Quality);
 
   RayScene(RayScene&&) noexcept;
@@ -82,7 +89,8 @@ class RayScene {
   /// hits within kEndpointEpsilon * scale() of either end point. Segments shorter
   /// than twice that are never occluded. Thread-safe.
   ///
-  /// `ignore_a`, `ignore_b`: polygons whose hits are ignored (kNoPolygon: none). Pass
+  /// `ignore_a`, `ignore_b`: polygons whose hits are ignored, with their twins
+  /// (kNoPolygon: none). Pass
   /// the polygons the end points lie on: a segment from a point on a planar polygon
   /// meets that polygon's plane only at its start, so any hit on it is false, but in
   /// single precision a segment that skims along the polygon from an end point within
@@ -93,8 +101,9 @@ class RayScene {
 
   /// First hit along origin + t * dir with kEndpointEpsilon * scale() <= t |dir| and
   /// t <= tmax, skipping polygon `ignore` (the one the origin lies on, if known; see
-  /// occluded()). `dir` need not be unit length, but must be non-zero. Polygons are
-  /// two-sided. Thread-safe.
+  /// occluded()) and its twin. `dir` need not be unit length, but must be non-zero.
+  /// Polygons are hit from both sides, except one with a twin, which is hit only from
+  /// its front (its twin covers the back). Thread-safe.
   [[nodiscard]] std::optional<RayHit> intersect(
       const Vec3& origin, const Vec3& dir,
       double tmax = std::numeric_limits<double>::infinity(),
@@ -103,6 +112,8 @@ class RayScene {
   /// Bounding-box diagonal D of all vertices referenced by polygons (0 when empty).
   [[nodiscard]] double scale() const;
   [[nodiscard]] std::size_t polygon_count() const;
+  /// The twin of polygon `poly` (see the constructor), or kNoPolygon.
+  [[nodiscard]] std::uint32_t twin(std::uint32_t poly) const;
   /// Unit normal of input polygon `poly` (Newell's, from its vertex order; zero when
   /// degenerate): which side of a polygon a ray hit, d.normal(hit.prim) < 0 for the front.
   [[nodiscard]] const Vec3& normal(std::uint32_t poly) const;

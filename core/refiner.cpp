@@ -192,7 +192,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
     }
     if (!straddle) {
       if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
-      const Verdict v = oracle_.judge(est, OracleThresholds{limits_.eps_power});
+      const Verdict v = oracle_.judge(est, OracleThresholds{limits_.eps_power, limits_.mean_irradiance});
       error = v.error;
       if (v.decision == Decision::Accept || (!can_r && !can_s)) {
         accept = true;

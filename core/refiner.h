@@ -42,6 +42,9 @@ struct RefineLimits {
   /// The stage stops (RefineCounters::over_memory) when the refiners' element and link
   /// arenas hold more than this many bytes; 0: no limit.
   std::uint64_t max_bytes = 0;
+  /// Emitted power over total area: what a receiver's irradiance is compared with
+  /// (OracleThresholds::mean_irradiance); 0: thresholds are not scaled.
+  double mean_irradiance = 0;
 };
 
 /// What one refinement stage did, summed over refiners.

@@ -210,8 +210,17 @@ Image render_radiance(const RenderMesh& mesh, const Camera& cam, int width, int 
       for (int j = 0; j < s; ++j) {
         for (int i = 0; i < s; ++i) {
           const Vec3 dir = camera_ray(cam, width, height, x + (i + 0.5) / s, y + (j + 0.5) / s);
-          const auto hit = rays.intersect(cam.eye, dir);
+          auto hit = rays.intersect(cam.eye, dir);
           if (!hit) continue;
+          if (rays.normal(hit->prim).dot(dir) > 0) {
+            // A back: the front of a coincident element (the other side of a
+            // two-sided sheet, core/back_faces.h) wins, as it would for the solver.
+            const double win = 4 * RayScene::kEndpointEpsilon * rays.scale() / dir.norm();
+            const double start = std::max(hit->t - win, 0.0);
+            const auto front = rays.intersect(cam.eye + start * dir, dir, hit->t - start + win,
+                                              hit->prim);
+            if (front && rays.normal(front->prim).dot(dir) < 0) hit = front;
+          }
           ++hits;
           sum += interpolate(mesh, mesh.polys[hit->prim], hit->u, hit->v);
         }

@@ -17,6 +17,9 @@ struct Material {
   std::string name;
   Rgb reflectance = Rgb::Constant(0.5);  ///< diffuse reflectance rho, each channel in [0,1]
   Rgb emission = Rgb::Zero();            ///< emitted exitance E (power per unit area)
+  /// Both sides of its faces reflect and emit (MGF `sides 2`): core/back_faces.h gives
+  /// each such face a back face, unless the `sides` option says `one`.
+  bool two_sided = false;
   [[nodiscard]] bool emits() const { return (emission > 0).any(); }
 };
 
@@ -46,6 +49,12 @@ struct Scene {
   std::vector<Material> materials;
   std::optional<Camera> camera;
   std::vector<std::string> warnings;  ///< for the user; each already counts what it is about
+  /// What add_back_faces (core/back_faces.h) did: the `sides` mode it applied ("" when
+  /// it did not run), the back faces it appended (the last `back_faces` faces), and the
+  /// two-sided faces whose back face the input already had.
+  std::string sides;
+  std::size_t back_faces = 0;
+  std::size_t back_faces_present = 0;
 
   [[nodiscard]] std::size_t polygon_count() const { return faces.size(); }
   [[nodiscard]] std::vector<Vec3> face_vertices(std::size_t f) const;

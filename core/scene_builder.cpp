@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace hrad {
 
@@ -95,17 +94,7 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
   // under a "Bottom Face" comment): both copies would reflect and emit, doubling that
   // face's light (the blocks' probes near the floor came out 8-11 % too bright). The
   // reversed order is another polygon: the other side of a sheet.
-  std::size_t first = 0;
-  for (std::size_t i = 1; i < p.size(); ++i)
-    if (std::lexicographical_compare(p[i].data(), p[i].data() + 3, p[first].data(),
-                                     p[first].data() + 3))
-      first = i;
-  std::vector<double> key;
-  key.reserve(3 * p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec3& x = p[(first + i) % p.size()];
-    key.insert(key.end(), {x.x(), x.y(), x.z()});
-  }
+  std::vector<double> key = cycle_key(p);
   if (!seen_.insert(std::move(key)).second) {
     ++duplicate_faces_;
     return;
@@ -188,17 +177,6 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
   }
   // What is left (a triangle, or a ring ear clipping could not finish) as a fan.
   for (std::size_t k = 1; k + 1 < ring.size(); ++k) add_tri(ring[0], ring[k], ring[k + 1]);
-}
-
-std::size_t PositionsHash::operator()(const std::vector<double>& v) const noexcept {
-  std::size_t h = v.size();
-  for (double x : v) {
-    const double y = x == 0 ? 0.0 : x;  // -0 and +0 are the same position
-    std::uint64_t bits = 0;
-    std::memcpy(&bits, &y, sizeof bits);
-    h ^= std::hash<std::uint64_t>{}(bits) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-  }
-  return h;
 }
 
 Scene SceneBuilder::finish(const std::string& file) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/input_error.h"
+#include "core/polygon_key.h"
 #include "core/scene.h"
 
 #include <span>
@@ -26,11 +27,6 @@ struct SourceLoc {
 /// emission by up to 1 / (1 - rho); 1e30 leaves room for both. (Ke 1e40 solved with
 /// exit 0 and wrote inf into solution.ply.)
 inline constexpr double kMaxExitance = 1e30;
-
-/// Hash of a polygon's flattened vertex coordinates (SceneBuilder's duplicate test).
-struct PositionsHash {
-  std::size_t operator()(const std::vector<double>& v) const noexcept;
-};
 
 class SceneBuilder {
  public:

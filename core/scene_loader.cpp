@@ -26,11 +26,25 @@ std::string scene_format(const std::string& spec) {
 
 }  // namespace
 
-Scene load_scene(const std::string& spec) {
+SceneLoadOptions scene_load_options(const SolverOptions& o) {
+  return {parse_sides(o.sides), o.segments};
+}
+
+Scene load_scene(const std::string& spec, const SceneLoadOptions& options) {
   // Every "builtin:" spec goes to make_builtin, so an unknown builtin name gets its
   // own message rather than "unknown format".
-  if (spec.starts_with("builtin:")) return make_builtin(spec);
-  return scene_format(spec) == ".obj" ? read_obj(spec) : read_mgf(spec);
+  Scene scene;
+  if (spec.starts_with("builtin:")) {
+    scene = make_builtin(spec);
+  } else if (scene_format(spec) == ".obj") {
+    scene = read_obj(spec);
+  } else {
+    MgfOptions mgf;
+    mgf.segments = options.segments;
+    scene = read_mgf(spec, mgf);
+  }
+  add_back_faces(scene, options.sides);
+  return scene;
 }
 
 void check_scene_spec(const std::string& spec) {

@@ -3,15 +3,28 @@
 //   "*.obj"            -> read_obj(path)       (core/obj_reader.h; Ke is radiance)
 //   "*.mgf"            -> read_mgf(path)       (core/mgf_reader.h)
 // Extensions are compared case-insensitively. Anything else is an InputError.
+// Then add_back_faces (core/back_faces.h) applies the `sides` option to every scene.
 #pragma once
 
 #include <string>
 
+#include "core/back_faces.h"
+#include "core/options.h"
 #include "core/scene.h"
 
 namespace hrad {
 
-Scene load_scene(const std::string& spec);
+/// The options that shape the scene itself: the `sides` and `segments` keys.
+struct SceneLoadOptions {
+  Sides sides = Sides::Auto;
+  int segments = 0;  ///< MgfOptions::segments (0: automatic)
+  bool operator==(const SceneLoadOptions&) const = default;
+};
+
+/// The scene options of a (validated) configuration.
+SceneLoadOptions scene_load_options(const SolverOptions& o);
+
+Scene load_scene(const std::string& spec, const SceneLoadOptions& options = {});
 
 /// Throws the InputError load_scene(spec) would throw for what can be told without
 /// reading the scene: an unknown builtin scene or parameter, an unknown format, a file

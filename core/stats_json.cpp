@@ -152,6 +152,9 @@ nlohmann::json scene_summary_json(const Scene& scene) {
       {"emitted_power", {number(power[0]), number(power[1]), number(power[2])}},
       {"bounds", std::move(bounds)},
       {"grey", scene.is_grey()},
+      {"sides", scene.sides.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene.sides)},
+      {"back_faces", scene.back_faces},
+      {"back_faces_present", scene.back_faces_present},
       {"warnings", scene.warnings},
   };
 }

@@ -25,7 +25,9 @@ namespace hrad {
 
 /// {name, source, polygons, vertices, materials, emitters (emitting polygons),
 ///  total_area, emitted_power [r,g,b] (sum of exitance x area), bounds {lo [x,y,z],
-///  hi [x,y,z]} (null for an empty scene), grey (bool), warnings [...]}.
+///  hi [x,y,z]} (null for an empty scene), grey (bool), sides (the `sides` mode applied,
+///  null when none was), back_faces (faces added as the back of two-sided ones),
+///  back_faces_present (two-sided faces whose back the input already had), warnings [...]}.
 [[nodiscard]] nlohmann::json scene_summary_json(const Scene& scene);
 
 /// {eye [x,y,z], look [x,y,z], up [x,y,z], fov (vertical, degrees), source (how it was

@@ -9,6 +9,7 @@
 // and in reference.json, but the run still succeeds (status 0).
 #include "core/atomic_file.h"
 #include "core/interrupt.h"
+#include "core/options_io.h"
 #include "core/path_tracer.h"
 #include "core/probes.h"
 #include "core/progress.h"
@@ -19,6 +20,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <filesystem>
 #include <memory>
 
@@ -31,6 +33,9 @@ struct ReferenceArgs {
   std::string scene, probes, out;
   std::size_t random_probes = 0;
   PathTracerOptions options;
+  /// The scene's `sides` and `segments` keys, as `hrad solve` takes them (the reference
+  /// must trace the scene the solver solves).
+  SolverOptions scene_keys;
   bool quiet = false;
 };
 
@@ -56,7 +61,8 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
   try {
     if (a.probes.empty() && a.random_probes == 0)
       throw std::invalid_argument("give the probe points: --probes FILE or --random-probes N");
-    scene = load_scene(a.scene);
+    validate_options(a.scene_keys);
+    scene = load_scene(a.scene, scene_load_options(a.scene_keys));
     if (a.random_probes > 0) {
       probes = random_surface_probes(scene, a.random_probes, a.options.seed);
     } else {
@@ -113,7 +119,13 @@ int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
     const nlohmann::json j = {
         {"hrad", {{"version", kVersion}, {"git_revision", git_revision()}}},
         {"command_line", ctx.argv},
-        {"scene", {{"name", scene.name}, {"source", scene.source}}},
+        {"scene",
+         {{"name", scene.name},
+          {"source", scene.source},
+          {"sides", a.scene_keys.sides},
+          {"segments", a.scene_keys.segments},
+          {"polygons", scene.polygon_count()},
+          {"back_faces", scene.back_faces}}},
         {"options",
          {{"rel_error", a.options.rel_error},
           {"abs_floor", a.options.abs_floor},
@@ -210,6 +222,18 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
       ->type_name("N");
   sub->add_option("--threads", args->options.threads,
                   "OpenMP threads; results do not depend on it [default: 1]")
+      ->type_name("N");
+  // The scene's own keys, with the help text of `hrad solve`'s flags.
+  const SolverOptions defaults;
+  auto scene_key_help = [&](const char* key) {
+    const std::string& h = find_option(key)->help;
+    return fmt::format("{}{}, as for 'hrad solve' [config key {}; default {}]",
+                       static_cast<char>(std::toupper(static_cast<unsigned char>(h[0]))),
+                       h.substr(1), key, option_value_string(defaults, key));
+  };
+  sub->add_option("--sides", args->scene_keys.sides, scene_key_help("sides"))
+      ->type_name("MODE");
+  sub->add_option("--segments", args->scene_keys.segments, scene_key_help("segments"))
       ->type_name("N");
   sub->add_flag("--quiet", args->quiet, "No progress line and no summary");
   sub->callback([args, &ctx] { ctx.status = run_reference(*args, ctx); });

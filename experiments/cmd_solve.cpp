@@ -63,6 +63,7 @@ constexpr OptionFlag kOptionFlags[] = {
     {"--eps", "eps", "X"},                {"--min-area", "min_area", "X"},
     {"--iterations", "iterations", "N"},  {"--pin", "pin", "POLICY"},
     {"--placement", "placement", "POLICY"}, {"--seed", "seed", "N"},
+    {"--sides", "sides", "MODE"},         {"--segments", "segments", "N"},
     {"--shading", "shading", "MODE"},     {"--exposure", "exposure", "STOPS"},
 };
 
@@ -251,7 +252,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     // Loading and preparing can take seconds on large scenes: the line says so.
     progress = std::make_unique<ProgressReporter>(a.quiet);
     progress->update("loading " + fs::path(a.scene).filename().string(), 0);
-    scene = load_scene(a.scene);
+    scene = load_scene(a.scene, scene_load_options(options));
     if (!a.probes.empty()) {
       probes = read_probes(a.probes);
       if (probes.empty())

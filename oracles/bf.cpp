@@ -1,8 +1,9 @@
 // `bf`: the classic oracle of Hanrahan, Salzman and Aupperle (1991): a link is
 // good enough when the power it carries, rho_r * B_s * F_rs * A_r (largest
 // channel, unoccluded F so that shadow boundaries are still refined), is below
-// eps x total emitted power; a link with a cluster end that is partly or wholly
-// occluded counts kOccludedClusterWeight times (oracles/oracle.h). Element size
+// eps x total emitted power (tightened for a receiver darker than the scene's mean,
+// receiver_threshold); a link with a cluster end that is partly or wholly occluded
+// counts kOccludedClusterWeight times (oracles/oracle.h). Element size
 // limits (min_area) are applied by the refiner, for every oracle alike.
 #include "core/element.h"
 #include "oracles/oracle.h"
@@ -15,7 +16,7 @@ class BfOracle final : public IOracle {
   Verdict judge(const LinkEstimate& l, const OracleThresholds& t) const override {
     const double err =
         reflected_power_scale(*l.receiver, *l.source) * l.form_factor * occlusion_weight(l);
-    return {err < t.eps_power ? Decision::Accept : Decision::Refine, err};
+    return {err < receiver_threshold(l, t) ? Decision::Accept : Decision::Refine, err};
   }
   const char* name() const override { return "bf"; }
 };

@@ -22,7 +22,7 @@ class ErrorOracle final : public IOracle {
         cluster ? l.form_factor : l.form_factor_spread + (partial ? l.form_factor : 0.0);
     const double err =
         reflected_power_scale(*l.receiver, *l.source) * uncertainty * occlusion_weight(l);
-    return {err < t.eps_power ? Decision::Accept : Decision::Refine, err};
+    return {err < receiver_threshold(l, t) ? Decision::Accept : Decision::Refine, err};
   }
   bool needs_spread() const override { return true; }
   const char* name() const override { return "error"; }

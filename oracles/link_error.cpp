@@ -1,7 +1,10 @@
 // What every oracle weighs a link's error by: the power it reflects, and the
-// occlusion weight of links with a cluster end (oracles/oracle.h).
+// occlusion weight of links with a cluster end; and the threshold it is compared
+// with, scaled for dark receivers (oracles/oracle.h).
 #include "core/element.h"
 #include "oracles/oracle.h"
+
+#include <algorithm>
 
 namespace hrad {
 
@@ -12,6 +15,21 @@ double reflected_power_scale(const Element& r, const Element& s) {
 double occlusion_weight(const LinkEstimate& l) {
   const bool cluster = l.receiver->is_cluster() || l.source->is_cluster();
   return cluster && l.visibility < 1 ? kOccludedClusterWeight : 1.0;
+}
+
+double receiver_threshold(const LinkEstimate& l, const OracleThresholds& t) {
+  const Element& r = *l.receiver;
+  if (!(t.mean_irradiance > 0)) return t.eps_power;
+  double irradiance = 0;
+  bool gathered = false;
+  for (int c = 0; c < 3; ++c) {
+    const double reflected = r.B[c] - r.emission[c];
+    gathered = gathered || reflected != 0;
+    if (r.rho[c] > 0) irradiance = std::max(irradiance, reflected / r.rho[c]);
+  }
+  // Nothing gathered yet (the first iteration): nothing known about its light.
+  if (!gathered) return t.eps_power;
+  return t.eps_power * std::clamp(irradiance / t.mean_irradiance, kDarkThresholdFloor, 1.0);
 }
 
 }  // namespace hrad

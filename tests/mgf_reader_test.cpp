@@ -2,11 +2,15 @@
 
 #include "core/input_error.h"
 #include "core/mgf_color.h"
+#include "core/mgf_segments.h"
 #include "core/mgf_shapes.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <map>
+#include <set>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -205,8 +209,125 @@ TEST(MgfPrimitives, TorusAreaApproachesFourPiSquaredRr) {
   EXPECT_NEAR(outer, 3.0, 1e-9);
 }
 
+// Directed edges (by vertex index) of the scene's faces: `unmatched` counts edges
+// without exactly one reverse edge, `repeated` directed edges used twice. A closed,
+// consistently oriented, watertight mesh has neither; an open one has only its rim
+// unmatched. Vertex indices, not positions: the shapes share their points.
+struct EdgeCount {
+  std::size_t unmatched = 0, repeated = 0, edges = 0;
+};
+EdgeCount count_edges(const Scene& s) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (const Face& f : s.faces)
+    for (std::uint32_t k = 0; k < f.count; ++k)
+      ++directed[{s.indices[f.first + k], s.indices[f.first + (k + 1) % f.count]}];
+  EdgeCount c;
+  for (const auto& [e, n] : directed) {
+    c.edges += static_cast<std::size_t>(n);
+    if (n > 1) ++c.repeated;
+    const auto it = directed.find({e.second, e.first});
+    if (it == directed.end() || it->second != 1) ++c.unmatched;
+  }
+  // Distinct vertices at one position would hide a crack from the index test.
+  std::set<std::array<double, 3>> positions;
+  for (const Vec3& v : s.vertices) positions.insert({v.x() + 0.0, v.y() + 0.0, v.z() + 0.0});
+  EXPECT_EQ(positions.size(), s.vertices.size()) << "vertices repeated by position";
+  return c;
+}
+
+TEST(MgfPrimitives, ClosedShapesAreWatertight) {
+  const std::string base =
+      "v a =\n p 0 0 0\nv b =\n p 0 2 0\nv d =\n p 1 2 0\nv e =\n p 1 1 0\nv f =\n p 2 1 0\n"
+      "v g =\n p 2 0 0\n";
+  // Odd and even counts; plain and under a rotating, scaling, mirroring transform.
+  for (int n : {3, 7, 16, 33}) {
+    for (const std::string xf : {"", "xf -rz 30 -s 2.5 -mx -t 1 2 3\n"}) {
+      const std::string end = xf.empty() ? "" : "xf\n";
+      for (const std::string shape :
+           {std::string("sph c 1.5\n"), std::string("sph c -1.5\n"),
+            std::string("torus c 0.5 2\n"), std::string("torus c 0 2\n"),
+            std::string("torus c -0.5 -2\n")}) {
+        const Scene s = parse(prelude("1 1 1", "0.3 0.4 1") + xf + shape + end, n);
+        const EdgeCount c = count_edges(s);
+        EXPECT_EQ(c.unmatched, 0u) << shape << " n " << n << " " << xf;
+        EXPECT_EQ(c.repeated, 0u) << shape << " n " << n;
+        // No facet dropped as degenerate or sliver, none triangulated.
+        EXPECT_FALSE(has_warning(s, "dropped") || has_warning(s, "triangulated"))
+            << shape << " n " << n;
+      }
+    }
+    // An L-shaped (concave) prism: SceneBuilder triangulates its ends over the same
+    // vertices.
+    const Scene p = parse("m g =\n rd 0.5\n" + base + "prism a b d e f g 1\n", n);
+    const EdgeCount c = count_edges(p);
+    EXPECT_EQ(c.unmatched, 0u);
+    EXPECT_EQ(c.repeated, 0u);
+  }
+  // Every pole facet is a triangle on the one pole vertex: no zero-area slivers.
+  const Scene s = parse(prelude() + "sph c 1\n", 16);
+  int at_pole = 0;
+  for (const Face& f : s.faces)
+    for (std::uint32_t k = 0; k < f.count; ++k)
+      if (s.vertices[s.indices[f.first + k]].z() == 1.0) {
+        ++at_pole;
+        EXPECT_EQ(f.count, 3u);
+      }
+  EXPECT_EQ(at_pole, 16);
+}
+
+TEST(MgfPrimitives, OpenShapesHaveOnlyTheirRimsOpen) {
+  for (int n : {5, 16}) {
+    // cyl and cone are open-ended (MGF: no caps): both end circles are the rim.
+    Scene s = parse(prelude() + "v top =\n p 0 0 3\ncyl c 0.5 top\n", n);
+    EdgeCount c = count_edges(s);
+    EXPECT_EQ(c.unmatched, 2u * n);
+    EXPECT_EQ(c.repeated, 0u);
+    EXPECT_EQ(s.vertices.size(), 2u * n);  // the seam at 2 pi is the point at 0
+    s = parse(prelude() + "v top =\n p 0 0 3\ncone c 0.5 top 0\n", n);
+    c = count_edges(s);
+    EXPECT_EQ(c.unmatched, 1u * n);  // the apex is one point
+    EXPECT_EQ(s.vertices.size(), n + 1u);
+    s = parse(prelude() + "ring c 0 1\n", n);
+    EXPECT_EQ(count_edges(s).unmatched, 1u * n);
+    s = parse(prelude() + "ring c 0.5 1\n", n);
+    EXPECT_EQ(count_edges(s).unmatched, 2u * n);
+  }
+}
+
+TEST(MgfSegments, RuleFollowsTheShapeAgainstTheScene) {
+  // The rule itself: chords of at most 2 % of the diagonal, clamped to [16, 128].
+  EXPECT_EQ(automatic_segments(0.001, 10), kMinSegments);
+  EXPECT_EQ(automatic_segments(1e6, 10), kMaxSegments);
+  EXPECT_EQ(automatic_segments(40 * 0.02 * 10 / (2 * kPi), 10), 40);
+  EXPECT_EQ(automatic_segments(1, 0), kMinSegments);
+  // A big sphere and a small one 10 apart: D from both spheres' exact extents.
+  const std::string two = prelude() + "v far =\n p 10 0 0\nsph c 2\nsph far 0.1\n";
+  const double diagonal = Vec3(12.1, 4, 4).norm();
+  const int big = static_cast<int>(std::ceil(2 * kPi * 2 / (kSegmentEdge * diagonal)));
+  ASSERT_EQ(big, 48);
+  MgfOptions automatic;  // segments = 0
+  const Scene s = parse_mgf(two, "t.mgf", automatic);
+  EXPECT_EQ(s.faces.size(), static_cast<std::size_t>(big * big / 2 + 16 * 8));
+  EXPECT_NEAR(s.bounds().diagonal(), diagonal, 1e-12);
+  // Scale-invariant: the same scene 1000 times larger (and rotated) is cut the same.
+  const Scene scaled =
+      parse_mgf("xf -s 1000 -rx 30\n" + two + "xf\n", "t.mgf", automatic);
+  EXPECT_EQ(scaled.faces.size(), s.faces.size());
+  // A fixed count overrides the rule for every shape.
+  EXPECT_EQ(parse(two, 16).faces.size(), 2u * 16 * 8);
+  // Polygons keep their file order around the deferred shapes.
+  const Scene order = parse_mgf(prelude() + "v a =\n p 5 5 5\nv b =\n p 6 5 5\nv d =\n p 5 6 5\n"
+                                "f a b d\nsph c 1\nf d b a\n",
+                                "t.mgf", automatic);
+  EXPECT_NEAR(order.face_normal(0).z(), 1.0, 1e-12);
+  EXPECT_NEAR(order.face_normal(order.faces.size() - 1).z(), -1.0, 1e-12);
+  EXPECT_NEAR(order.face_vertices(order.faces.size() - 1)[0].x(), 5.0, 1e-12);
+}
+
 TEST(MgfFiles, PrimitivesFileCountsEveryPiece) {
-  const Scene s = read_mgf(data("primitives.mgf"));
+  MgfOptions sixteen;
+  sixteen.segments = 16;
+  const Scene s = read_mgf(data("primitives.mgf"), sixteen);
   // sph 16x8, cyl 16, cone 16, ring 16, torus 16x16, prism 6, emitting disk 16.
   EXPECT_EQ(s.faces.size(), 128u + 16 + 16 + 16 + 256 + 6 + 16);
   EXPECT_EQ(s.emitter_count(), 16u);

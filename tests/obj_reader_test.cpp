@@ -413,9 +413,25 @@ TEST(LoaderDispatch, ObjByExtension) {
 }
 
 TEST(LoaderDispatch, MgfByExtension) {
+  // MGF materials are two-sided by default: the triangle gets a back face, which
+  // emits too; `sides = one` leaves it alone.
   const Scene s = load_scene(kData + "/loader_triangle.mgf");
-  EXPECT_EQ(s.polygon_count(), 1u);
-  EXPECT_EQ(s.emitter_count(), 1u);
+  EXPECT_EQ(s.polygon_count(), 2u);
+  EXPECT_EQ(s.emitter_count(), 2u);
+  EXPECT_EQ(s.back_faces, 1u);
+  EXPECT_EQ(s.sides, "auto");
+  EXPECT_NEAR(s.face_normal(0).dot(s.face_normal(1)), -1.0, 1e-12);
+  const Scene one = load_scene(kData + "/loader_triangle.mgf", {Sides::One, 0});
+  EXPECT_EQ(one.polygon_count(), 1u);
+  EXPECT_EQ(one.back_faces, 0u);
+  EXPECT_EQ(one.sides, "one");
+}
+
+TEST(LoaderDispatch, ObjIsOneSidedUnlessAsked) {
+  EXPECT_EQ(load_scene(kData + "/shapes.obj").back_faces, 0u);
+  const Scene two = load_scene(kData + "/shapes.obj", {Sides::Two, 0});
+  EXPECT_EQ(two.back_faces, two.polygon_count() / 2);
+  EXPECT_EQ(two.polygon_count(), 2 * load_scene(kData + "/shapes.obj").polygon_count());
 }
 
 TEST(LoaderDispatch, Builtin) {

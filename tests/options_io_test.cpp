@@ -46,6 +46,8 @@ SolverOptions non_default_options() {
   o.image_width = 320;
   o.max_memory_gb = 2.5;
   o.camera = "eye=1,2,3:look=0,0.5,-1e-3:fov=30";
+  o.sides = "one";
+  o.segments = 24;
   o.shading = "flat";
   o.exposure = -2.5;
   return o;
@@ -53,6 +55,8 @@ SolverOptions non_default_options() {
 
 void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.camera, b.camera);
+  EXPECT_EQ(a.sides, b.sides);
+  EXPECT_EQ(a.segments, b.segments);
   EXPECT_EQ(a.scheduler, b.scheduler);
   EXPECT_EQ(a.block_size, b.block_size);
   EXPECT_EQ(a.threads, b.threads);
@@ -83,7 +87,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
     EXPECT_TRUE(j.contains(i.name)) << i.name;
     EXPECT_FALSE(i.help.empty()) << i.name;
   }
-  EXPECT_EQ(names.size(), 27u);  // one per field of SolverOptions
+  EXPECT_EQ(names.size(), 29u);  // one per field of SolverOptions
   EXPECT_EQ(j.size(), names.size());
   EXPECT_EQ(j["scheduler"], "stack");
   EXPECT_EQ(j["iterations"], 4);
@@ -241,6 +245,11 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
       {"placement=node7", "placement"},
       {"scheduler=", "scheduler"},
       {"oracle=", "oracle"},
+      {"sides=both", "sides"},
+      {"sides=", "sides"},
+      {"segments=2", "segments"},
+      {"segments=-1", "segments"},
+      {"segments=4097", "segments"},
   };
   for (const auto& [assignment, key] : cases) {
     const std::string e = err(assignment);
@@ -249,6 +258,10 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
   EXPECT_TRUE(contains(err("threads=0"), ">= 1"));
   EXPECT_EQ(err("min_area=0"), "");
   EXPECT_EQ(err("visibility_rays=0"), "");
+  EXPECT_EQ(err("segments=0"), "");  // automatic
+  EXPECT_EQ(err("segments=3"), "");
+  EXPECT_EQ(err("sides=two"), "");
+  EXPECT_TRUE(contains(err("sides=both"), "one of auto, one, two")) << err("sides=both");
 }
 
 TEST(OptionsIo, CameraKeyIsCheckedWhereItIsRead) {

@@ -52,6 +52,51 @@ TEST(Oracle, OccludedClusterLinksAreWeighed) {
   }
 }
 
+// A receiver darker than the scene's mean is judged against a threshold scaled by its
+// irradiance over the mean, never below kDarkThresholdFloor of eps and never above
+// eps; one that has gathered nothing yet (B = E), or with no mean given, keeps eps.
+// Exact arithmetic: tolerance 1e-12 relative.
+TEST(Oracle, DarkReceiversAreJudgedAgainstTheirOwnLight) {
+  Element r, s;
+  set(r, ElementKind::Surface, 1.0, 0.5, 0);
+  set(s, ElementKind::Surface, 1.0, 0.5, 3.0);
+  const LinkEstimate l{&r, &s, 0.1, 1, 0};
+  const OracleThresholds t{2.0, 4.0};  // mean irradiance 4
+  const auto threshold_at = [&](double b) {
+    r.B = Rgb::Constant(b);
+    return receiver_threshold(l, t);
+  };
+  EXPECT_DOUBLE_EQ(threshold_at(0), 2.0);          // nothing gathered yet
+  EXPECT_NEAR(threshold_at(1.0), 2.0 * 0.5, 1e-12);  // E_r = 1 / 0.5 = 2: half the mean
+  EXPECT_NEAR(threshold_at(0.1), 2.0 * kDarkThresholdFloor, 1e-12);  // E_r 0.2: the floor
+  EXPECT_DOUBLE_EQ(threshold_at(5.0), 2.0);        // brighter than the mean: eps itself
+  // Emission is not light gathered: an emitter of exitance 1 with B = 1.5 has E_r = 1.
+  r.emission = Rgb::Constant(1.0);
+  EXPECT_NEAR(threshold_at(1.5), 2.0 * 0.25, 1e-12);
+  EXPECT_DOUBLE_EQ(threshold_at(1.0), 2.0);  // B = E: nothing gathered
+  r.emission = Rgb::Zero();
+  // The largest channel's irradiance decides: a red-lit receiver is as bright as its red.
+  r.B = Rgb(2.0, 0.1, 0.1);
+  EXPECT_DOUBLE_EQ(receiver_threshold(l, t), 2.0);
+  // No mean: thresholds are not scaled.
+  r.B = Rgb::Constant(0.1);
+  EXPECT_DOUBLE_EQ(receiver_threshold(l, OracleThresholds{2.0}), 2.0);
+  // Both oracles use it: a link of error 0.75 (rho 0.5 x B_s 3 x A 1 x 0.5, the F of
+  // `bf` and the F spread of `error`) passes eps 1 for a bright receiver and fails it
+  // for a dark one (threshold 0.25).
+  const LinkEstimate big{&r, &s, 0.5, 1, 0.5};
+  for (const char* name : {"bf", "error"}) {
+    SCOPED_TRACE(name);
+    const auto oracle = make_oracle(name);
+    const OracleThresholds one{1.0, 4.0};
+    r.B = Rgb::Constant(5.0);
+    EXPECT_NEAR(oracle->judge(big, one).error, 0.75, 1e-12);
+    EXPECT_EQ(oracle->judge(big, one).decision, Decision::Accept);
+    r.B = Rgb::Constant(0.1);
+    EXPECT_EQ(oracle->judge(big, one).decision, Decision::Refine);
+  }
+}
+
 // Fibonacci-sphere mean of a cluster's projected area over all directions.
 double mean_projected_area(const Element& c) {
   const int n = 20000;

@@ -99,6 +99,7 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
   std::optional<Scene> scene;
   std::optional<SceneReference> reference;
   std::string scene_spec;
+  SceneLoadOptions scene_options;  // the `sides` and `segments` the scene was loaded with
   double run_seconds = 0;
   int number = summary.skipped;
   TaskCostTable task_costs;
@@ -108,10 +109,11 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
         const RunId id{p.index, rep};
         if (files.done().count(id)) continue;
         throw_if_interrupted();
-        if (!scene || scene_spec != p.scene) {
+        if (!scene || scene_spec != p.scene || !(scene_options == scene_load_options(p.options))) {
           scene.reset();  // free the previous scene before loading the next
           reference.reset();
-          scene = load_scene(p.scene);
+          scene_options = scene_load_options(p.options);
+          scene = load_scene(p.scene, scene_options);
           scene_spec = p.scene;
           if (!settings.quiet)
             for (const std::string& w : scene->warnings)
