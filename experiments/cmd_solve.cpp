@@ -305,8 +305,10 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     image_info["mesh_vertices"] = mesh.positions.size();
     image_info["mesh_polygons"] = mesh.polys.size();
 
+    ToneMap tone;
+    tone.stops = options.exposure;
     try {
-      write_ply(mesh, out / "solution.ply");
+      write_ply(mesh, out / "solution.ply", tone);
       outputs["mesh"] = "solution.ply";
       written.push_back("solution.ply");
 
@@ -319,8 +321,6 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       image_info["width"] = width;
       image_info["height"] = height;
       image_info["render_s"] = seconds_since(render_start);
-      ToneMap tone;
-      tone.stops = options.exposure;
       const double k = write_png(img, image, tone);
       image_info["exposure"] = {{"stops", options.exposure},
                                 {"automatic", k / std::exp2(options.exposure)},
