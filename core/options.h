@@ -41,6 +41,11 @@
 // |                     |        |              | auto (MGF sides 2), one (none), two (every face)           |
 // | segments            | int    | 0            | divisions of a circle for MGF sph, cyl, cone, ring, torus: |
 // |                     |        |              | 0 by the shape's size (core/mgf_segments.h), or 3..4096    |
+// | shading             | string | "smooth"     | render.png and solution.ply: smooth (vertex values shared  |
+// |                     |        |              | across leaves of one surface) or flat                      |
+// |                     |        |              | (core/smooth_shading.h)                                    |
+// | exposure            | double | 0            | render.png's exposure, in stops over the automatic one     |
+// |                     |        |              | (core/render.h): +1 twice as bright, -1 half               |
 #pragma once
 
 #include <cstdint>
@@ -76,6 +81,8 @@ struct SolverOptions {
   std::string camera;
   std::string sides = "auto";
   int segments = 0;
+  std::string shading = "smooth";
+  double exposure = 0;
 };
 
 }  // namespace hrad

@@ -83,6 +83,11 @@ const std::vector<Row>& rows() {
       {"segments", &S::segments,
        "divisions of a full circle for MGF sph, cyl, cone, ring and torus (0: by each "
        "shape's radius against the scene's diagonal, 16 to 128)"},
+      {"shading", &S::shading,
+       "render.png and solution.ply: smooth (one value per vertex and surface, continuous "
+       "across leaves) or flat (each leaf its own constant)"},
+      {"exposure", &S::exposure,
+       "render.png's exposure in stops over the automatic exposure (+1: twice as bright)"},
   };
   return table;
 }
@@ -334,6 +339,9 @@ void validate_options(const SolverOptions& o) {
         "one of auto, one, two");
   check(o.segments == 0 || (o.segments >= 3 && o.segments <= 4096), "segments",
         str(o.segments), "0 (automatic) or between 3 and 4096");
+  check(o.shading == "smooth" || o.shading == "flat", "shading", o.shading, "smooth or flat");
+  check(std::isfinite(o.exposure) && std::abs(o.exposure) <= 64, "exposure", str(o.exposure),
+        "a number of stops between -64 and 64");
   for (const Row& r : rows())
     if (r.check_text) std::visit([&](auto member) { check_syntax(r, o.*member, ""); }, r.member);
 }

@@ -78,7 +78,8 @@ RenderMesh render_mesh_from_emission(const Scene& scene) {
 // Tone mapping
 
 double choose_exposure(std::span<const Rgb> radiance, const ToneMap& tm) {
-  if (tm.exposure > 0) return tm.exposure;
+  const double scale = std::exp2(tm.stops);
+  if (tm.exposure > 0) return tm.exposure * scale;
   double log_sum = 0;
   std::size_t count = 0;
   for (const Rgb& c : radiance) {
@@ -88,8 +89,8 @@ double choose_exposure(std::span<const Rgb> radiance, const ToneMap& tm) {
       ++count;
     }
   }
-  if (count == 0) return 1.0;
-  return tm.key / std::exp(log_sum / static_cast<double>(count));
+  if (count == 0) return scale;
+  return scale * tm.key / std::exp(log_sum / static_cast<double>(count));
 }
 
 namespace {
@@ -111,17 +112,28 @@ std::array<std::uint8_t, 3> tone_map(const Rgb& radiance, double exposure, const
   return out;
 }
 
-std::vector<std::uint8_t> tone_map_image(const Image& img, const ToneMap& tm) {
+double image_exposure(const Image& img, const ToneMap& tm) {
   std::vector<Rgb> covered;
   for (std::size_t i = 0; i < img.radiance.size(); ++i)
     if (img.coverage[i] > 0) covered.push_back(img.radiance[i]);
-  const double k = choose_exposure(covered, tm);
+  return choose_exposure(covered, tm);
+}
+
+namespace {
+
+std::vector<std::uint8_t> tone_map_pixels(const Image& img, const ToneMap& tm, double k) {
   std::vector<std::uint8_t> rgb(3 * img.radiance.size());
   for (std::size_t i = 0; i < img.radiance.size(); ++i) {
     const auto px = tone_map(img.radiance[i], k, tm);
     std::copy(px.begin(), px.end(), rgb.begin() + static_cast<std::ptrdiff_t>(3 * i));
   }
   return rgb;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> tone_map_image(const Image& img, const ToneMap& tm) {
+  return tone_map_pixels(img, tm, image_exposure(img, tm));
 }
 
 // ---------------------------------------------------------------------------------
@@ -235,10 +247,15 @@ std::string encode_png(int width, int height, std::span<const std::uint8_t> rgb)
   return bytes;
 }
 
-void render_png(const RenderMesh& mesh, const Camera& cam, int width, int height,
-                const std::filesystem::path& out, const ToneMap& tm, int supersample) {
-  const Image img = render_radiance(mesh, cam, width, height, supersample);
-  write_file_atomically(out, encode_png(width, height, tone_map_image(img, tm)));
+double write_png(const Image& img, const std::filesystem::path& out, const ToneMap& tm) {
+  const double k = image_exposure(img, tm);
+  write_file_atomically(out, encode_png(img.width, img.height, tone_map_pixels(img, tm, k)));
+  return k;
+}
+
+double render_png(const RenderMesh& mesh, const Camera& cam, int width, int height,
+                  const std::filesystem::path& out, const ToneMap& tm, int supersample) {
+  return write_png(render_radiance(mesh, cam, width, height, supersample), out, tm);
 }
 
 }  // namespace hrad

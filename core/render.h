@@ -9,11 +9,12 @@
 //  1. exposure k: ToneMap::exposure when > 0, otherwise automatic: k = key / L_avg where
 //     L_avg is the log-average (geometric mean) luminance of the samples that show a
 //     surface of positive luminance (Reinhard et al. 2002, "key value"; the geometric
-//     mean keeps a small, very bright light source from darkening the whole picture).
+//     mean keeps a small, very bright light source from darkening the whole picture);
+//     then times 2^ToneMap::stops (the `exposure` option: +1 stop twice as bright).
 //     Luminance Y = 0.2126 R + 0.7152 G + 0.0722 B (linear Rec. 709 primaries).
 //  2. per channel, x = k L mapped to x / (1 + x) (Reinhard) or clamped to [0, 1];
 //  3. the sRGB transfer curve (IEC 61966-2-1), rounded to 8 bits.
-// A scene with no positive luminance anywhere gets k = 1 (a black picture).
+// A scene with no positive luminance anywhere gets k = 2^stops (a black picture).
 #pragma once
 
 #include "core/render_mesh.h"
@@ -32,6 +33,7 @@ struct ToneMap {
   double exposure = 0;    ///< multiplier on radiance; <= 0 selects the automatic exposure
   double key = 0.18;      ///< automatic exposure maps the log-average luminance to this
   bool reinhard = true;   ///< false: clamp instead of x / (1 + x)
+  double stops = 0;       ///< the exposure above is multiplied by 2^stops
 };
 
 /// Rec. 709 luminance of a linear RGB triple.
@@ -40,7 +42,8 @@ struct ToneMap {
 }
 
 /// The exposure k that `tm` applies to these radiance values (step 1 above): tm.exposure
-/// if positive, else key / log-average luminance of the values with positive luminance.
+/// if positive, else key / log-average luminance of the values with positive luminance;
+/// times 2^tm.stops.
 [[nodiscard]] double choose_exposure(std::span<const Rgb> radiance, const ToneMap& tm);
 
 /// Steps 2 and 3 for one value, with the exposure already chosen.
@@ -68,15 +71,21 @@ struct Image {
 [[nodiscard]] Image render_radiance(const RenderMesh& mesh, const Camera& cam, int width,
                                     int height, int supersample = 1);
 
-/// Tone-maps an image to 8-bit sRGB, 3 bytes per pixel, row-major from the top. The
-/// automatic exposure looks only at covered pixels.
+/// The exposure tone_map_image applies: choose_exposure over the covered pixels.
+[[nodiscard]] double image_exposure(const Image& img, const ToneMap& tm);
+
+/// Tone-maps an image to 8-bit sRGB, 3 bytes per pixel, row-major from the top, with
+/// the exposure of image_exposure.
 [[nodiscard]] std::vector<std::uint8_t> tone_map_image(const Image& img, const ToneMap& tm);
 
 /// Encodes 8-bit RGB rows as a PNG file in memory.
 [[nodiscard]] std::string encode_png(int width, int height, std::span<const std::uint8_t> rgb);
 
-/// render_radiance + tone_map_image + PNG, written atomically to `out`.
-void render_png(const RenderMesh& mesh, const Camera& cam, int width, int height,
-                const std::filesystem::path& out, const ToneMap& tm = {}, int supersample = 1);
+/// tone_map_image + PNG, written atomically to `out`; returns the exposure applied.
+double write_png(const Image& img, const std::filesystem::path& out, const ToneMap& tm = {});
+
+/// render_radiance + write_png; returns the exposure applied.
+double render_png(const RenderMesh& mesh, const Camera& cam, int width, int height,
+                  const std::filesystem::path& out, const ToneMap& tm = {}, int supersample = 1);
 
 }  // namespace hrad

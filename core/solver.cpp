@@ -382,55 +382,23 @@ RunStats Solver::run() {
 
 const RayScene& Solver::ray_scene() const { return impl_->rays; }
 
-RenderMesh Solver::render_mesh() const {
-  // Leaves of every input polygon; each vertex's radiosity is the mean of the
-  // leaves of the same input polygon that share it (so there is no smoothing
-  // across creases between different polygons).
-  RenderMesh mesh;
-  struct Key {
-    std::uint32_t face;
-    std::int64_t x, y, z;
-    bool operator==(const Key&) const = default;
-  };
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      std::uint64_t h = k.face;
-      for (std::int64_t v : {k.x, k.y, k.z}) h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(v);
-      return static_cast<std::size_t>(h ^ (h >> 29));
-    }
-  };
-  const double q = 1e-7 * impl_->scene.bounds().diagonal();
-  std::unordered_map<Key, std::uint32_t, KeyHash> index;
-  std::vector<double> weight;
-  auto vertex = [&](std::uint32_t face, const Vec3& p, const Element& leaf) {
-    const Key k{face, std::llround(p.x() / q), std::llround(p.y() / q), std::llround(p.z() / q)};
-    auto [it, fresh] = index.try_emplace(k, static_cast<std::uint32_t>(mesh.positions.size()));
-    if (fresh) {
-      mesh.positions.push_back(p);
-      mesh.radiosity.push_back(Rgb::Zero());
-      mesh.reflectance.push_back(leaf.rho);
-      weight.push_back(0);
-    }
-    mesh.radiosity[it->second] += leaf.area * leaf.B;
-    weight[it->second] += leaf.area;
-    return it->second;
-  };
+RenderMesh Solver::render_mesh(Shading shading) const {
+  // The leaves, shaded as core/smooth_shading.h describes (smooth: vertex values
+  // shared across leaves and polygons of one surface, T-vertices resolved).
+  std::vector<ShadingPatch> patches;
   for (const Element* e : leaf_surfaces(impl_->hierarchy.root())) {
-    const auto c = e->corners();
-    std::vector<std::uint32_t> ids;
-    for (const Vec3& p : c) ids.push_back(vertex(e->face, p, *e));
-    if (ids.size() <= 4) {
-      std::array<std::uint32_t, 4> poly{ids[0], ids[1], ids[2],
-                                        ids.size() == 4 ? ids[3] : RenderMesh::kNoVertex};
-      mesh.polys.push_back(poly);
-    } else {
-      for (std::size_t i = 1; i + 1 < ids.size(); ++i)
-        mesh.polys.push_back({ids[0], ids[i], ids[i + 1], RenderMesh::kNoVertex});
-    }
+    ShadingPatch p;
+    p.corners = e->corners();
+    p.centre = e->center;
+    p.normal = e->normal;
+    p.material = e->material;
+    p.area = e->area;
+    p.open = e->open < 0 ? 1.0 : static_cast<double>(e->open);
+    p.radiosity = e->B;
+    p.reflectance = e->rho;
+    patches.push_back(p);
   }
-  for (std::size_t i = 0; i < mesh.radiosity.size(); ++i)
-    if (weight[i] > 0) mesh.radiosity[i] /= weight[i];
-  return mesh;
+  return shade_patches(patches, shading, 1e-7 * impl_->scene.bounds().diagonal());
 }
 
 std::vector<std::pair<std::uint64_t, std::uint64_t>> Solver::link_ids() const {

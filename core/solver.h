@@ -9,6 +9,7 @@
 #include "core/render_mesh.h"
 #include "core/run_stats.h"
 #include "core/scene.h"
+#include "core/smooth_shading.h"
 
 #include <functional>
 #include <memory>
@@ -39,8 +40,9 @@ class Solver {
   /// uses, for other queries about the scene (the automatic camera). Thread-safe.
   [[nodiscard]] const RayScene& ray_scene() const;
 
-  /// Leaf elements with vertex-averaged radiosity, for render.png and solution.ply.
-  [[nodiscard]] RenderMesh render_mesh() const;
+  /// The leaf elements as a mesh for render.png and solution.ply, shaded as
+  /// core/smooth_shading.h describes.
+  [[nodiscard]] RenderMesh render_mesh(Shading shading = Shading::Smooth) const;
   /// Every link as (receiver id, source id), sorted: the link set, which must not
   /// depend on the scheduler or the thread count.
   [[nodiscard]] std::vector<std::pair<std::uint64_t, std::uint64_t>> link_ids() const;

@@ -19,6 +19,7 @@
 #include "core/interrupt.h"
 #include "core/json_input.h"
 #include "core/options_io.h"
+#include "core/pfm.h"
 #include "core/ply_writer.h"
 #include "core/probes.h"
 #include "core/progress.h"
@@ -34,6 +35,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
+#include <cmath>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -61,6 +64,7 @@ constexpr OptionFlag kOptionFlags[] = {
     {"--iterations", "iterations", "N"},  {"--pin", "pin", "POLICY"},
     {"--placement", "placement", "POLICY"}, {"--seed", "seed", "N"},
     {"--sides", "sides", "MODE"},         {"--segments", "segments", "N"},
+    {"--shading", "shading", "MODE"},     {"--exposure", "exposure", "STOPS"},
 };
 
 #ifdef __clang__
@@ -71,7 +75,7 @@ constexpr const char* kCompiler = "gcc " __VERSION__;
 
 struct SolveArgs {
   std::string scene;
-  std::string config, probes, image, out;
+  std::string config, probes, image, hdr, out;
   std::string camera, view;  ///< --camera SPEC, --view FILE
   CLI::Option* camera_option = nullptr;
   std::vector<std::string> sets;
@@ -204,9 +208,10 @@ void print_summary(const SolveArgs& a, const Scene& scene, const SolverOptions& 
   const RunTotals& t = st.totals;
   std::string listed;
   for (const std::string& f : files)
-    if (f != a.image) listed += (listed.empty() ? "" : ", ") + f;
-  // --image FILE is relative to where hrad runs, not to the output folder.
+    if (f != a.image && f != a.hdr) listed += (listed.empty() ? "" : ", ") + f;
+  // --image FILE and --hdr FILE are relative to where hrad runs, not to the output folder.
   if (!a.image.empty()) listed += "; image " + a.image;
+  if (!a.hdr.empty()) listed += "; HDR image " + a.hdr;
   fmt::print(
       "Solved {} ({} polygons, {} emitting) with {} iteration{} of scheduler '{}', oracle '{}' "
       "on {} thread{}: {} links, {} elements, {} rays cast ({} visibility queries answered "
@@ -235,6 +240,14 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       if (ext != ".png")
         throw std::invalid_argument(fmt::format(
             "--image {}: the image is written as PNG, so its name must end in .png", a.image));
+    }
+    if (!a.hdr.empty()) {
+      std::string ext = fs::path(a.hdr).extension().string();
+      for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (ext != ".pfm")
+        throw std::invalid_argument(fmt::format(
+            "--hdr {}: the HDR image is written as a Portable Float Map, so its name must end "
+            "in .pfm", a.hdr));
     }
     // Loading and preparing can take seconds on large scenes: the line says so.
     progress = std::make_unique<ProgressReporter>(a.quiet);
@@ -277,14 +290,25 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   nlohmann::json outputs = nlohmann::json::object();
   std::optional<Failure> failure;
   RunStats stats;
+  nlohmann::json image_info = nlohmann::json::object();
   try {
     const std::string started = experiment::now_iso8601();
     stats = solver->run();
     progress->finish();
-    const RenderMesh mesh = solver->render_mesh();
+    const auto seconds_since = [](std::chrono::steady_clock::time_point t) {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+    const auto mesh_start = std::chrono::steady_clock::now();
+    const RenderMesh mesh = solver->render_mesh(parse_shading(options.shading));
+    image_info["shading"] = options.shading;
+    image_info["mesh_s"] = seconds_since(mesh_start);
+    image_info["mesh_vertices"] = mesh.positions.size();
+    image_info["mesh_polygons"] = mesh.polys.size();
 
+    ToneMap tone;
+    tone.stops = options.exposure;
     try {
-      write_ply(mesh, out / "solution.ply");
+      write_ply(mesh, out / "solution.ply", tone);
       outputs["mesh"] = "solution.ply";
       written.push_back("solution.ply");
 
@@ -292,9 +316,25 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       if (!a.image.empty() && image.has_parent_path()) fs::create_directories(image.parent_path());
       const int width = options.image_width;
       const int height = std::max(1, width * 3 / 4);
-      render_png(mesh, camera.camera, width, height, image);
+      const auto render_start = std::chrono::steady_clock::now();
+      const Image img = render_radiance(mesh, camera.camera, width, height);
+      image_info["width"] = width;
+      image_info["height"] = height;
+      image_info["render_s"] = seconds_since(render_start);
+      const double k = write_png(img, image, tone);
+      image_info["exposure"] = {{"stops", options.exposure},
+                                {"automatic", k / std::exp2(options.exposure)},
+                                {"applied", k}};
       outputs["image"] = a.image.empty() ? "render.png" : a.image;
       written.push_back(a.image.empty() ? "render.png" : a.image);
+
+      if (!a.hdr.empty()) {
+        const fs::path hdr(a.hdr);
+        if (hdr.has_parent_path()) fs::create_directories(hdr.parent_path());
+        write_pfm(img, hdr);
+        outputs["hdr"] = a.hdr;
+        written.push_back(a.hdr);
+      }
 
       if (!a.probes.empty()) {
         write_probes_csv(out / "probes.csv", probes, solver->probe_irradiance(probes));
@@ -314,6 +354,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
         {"config_file", a.config.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.config)},
         {"scene", scene_summary_json(scene)},
         {"camera", camera_json(camera.camera, camera.source, camera.view_file)},
+        {"image", image_info},
         {"topology", topology_json()},
     };
     if (camera.source == "automatic")
@@ -381,6 +422,11 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--image", args->image,
                   "Write the rendered image to FILE instead of DIR/render.png (PNG; missing "
                   "folders are created)")
+      ->type_name("FILE");
+  sub->add_option("--hdr", args->hdr,
+                  "Also write the image's linear radiance (B/pi per pixel) to FILE, a "
+                  "little-endian Portable Float Map (.pfm; missing folders are created) "
+                  "[default: none]")
       ->type_name("FILE");
   sub->add_option("--out", args->out,
                   "Output folder, created if missing, files in it replaced [default: "

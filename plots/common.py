@@ -18,8 +18,15 @@ import sys
 
 
 def _pyplot():
-    """matplotlib.pyplot, imported on first use (bad input fails before the slow import)."""
-    import matplotlib
+    """matplotlib.pyplot, imported on first use (bad input fails before the slow import).
+    Without matplotlib the script exits with one line saying so (no traceback)."""
+    try:
+        import matplotlib
+    except ImportError as e:
+        reason = (str(e).splitlines() or ["not found"])[0]
+        sys.exit(f"{os.path.basename(sys.argv[0]) or 'plot'}: cannot import matplotlib with "
+                 f"{sys.executable} ({reason}); install python3-matplotlib (Debian) or run "
+                 "the script with a Python that has it: nothing drawn")
 
     matplotlib.use("Agg")  # files only, no display
     # Text in the SVG stays text (searchable, editable), not outlines.
@@ -102,8 +109,9 @@ def mean_by(rows, keys, value):
     return {k: (statistics.fmean(v), min(v), max(v)) for k, v in groups.items()}
 
 
-def caption(manifest, rows, figure):
-    """Machine, scenes, revision and the command that regenerates the figure."""
+def caption(manifest, rows, figure, extra_flags=""):
+    """Machine, scenes, revision and the command that regenerates the figure
+    (`extra_flags` appended to it, e.g. ' --simulated sim.csv')."""
     m = manifest.get("machine", {})
     exp = manifest.get("experiment", {})
     hrad = manifest.get("hrad", {})
@@ -116,6 +124,7 @@ def caption(manifest, rows, figure):
     flags = " --quick" if exp.get("quick") else ""
     for s in exp.get("sets", []):
         flags += f" --set {s}"
+    flags += extra_flags
     reps = exp.get("repetitions", "?")
     return (f"{figure}. Machine {machine}; hrad {hrad.get('git_revision', '?')}; "
             f"{reps} repetition(s), mean (bars: min-max).\nScenes: {scenes}.\n"
@@ -137,11 +146,14 @@ def errorbar(ax, xs, stats, **kw):
     return ax.errorbar(xs, ys, yerr=[lo, hi], capsize=3, marker="o", **kw)
 
 
-def save(fig, out_dir, name, text):
-    """Adds the caption under the axes and writes NAME.png and NAME.svg."""
+def save(fig, out_dir, name, text, top_inches=0.0):
+    """Adds the caption under the axes and writes NAME.png and NAME.svg; `top_inches`
+    are kept free above the axes (for a figure legend or title)."""
     lines = text.count("\n") + 1
     fig.text(0.01, 0.01, text, ha="left", va="bottom", fontsize=7, wrap=True)
-    fig.tight_layout(rect=(0, 0.035 * lines + 0.02, 1, 1))
+    # The caption's height in inches (7-point lines), whatever the figure's height.
+    height = fig.get_figheight()
+    fig.tight_layout(rect=(0, (0.16 * lines + 0.12) / height, 1, 1 - top_inches / height))
     os.makedirs(out_dir, exist_ok=True)
     paths = [os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "svg")]
     for p in paths:
@@ -174,3 +186,21 @@ def variant(row, exclude):
     parts = [p for p in str(row.get("swept") or "").split(" ")
              if p and p.split("=", 1)[0] not in exclude]
     return " ".join(parts)
+
+
+def label_log_axis(axis, lo, hi):
+    """Tick labels on a log axis spanning [lo, hi] that can be read whatever its span:
+    plain numbers (0.7, not 7e-1); every minor tick (2 ... 9) labelled when the span is
+    under a decade, 2 and 5 under three decades; under half a decade, evenly spaced
+    ticks instead (a log locator would leave one label or none there)."""
+    from matplotlib import ticker
+
+    decades = math.log10(hi / lo) if lo > 0 and hi > lo else 0.0
+    axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:.3g}"))
+    if decades < 0.5:
+        axis.set_major_locator(ticker.MaxNLocator(5))
+        axis.set_minor_locator(ticker.NullLocator())
+        return
+    keep = "23456789" if decades < 1 else "25" if decades < 3 else ""
+    axis.set_minor_formatter(ticker.FuncFormatter(
+        lambda v, _: f"{v:.3g}" if f"{v:.0e}"[0] in keep else ""))

@@ -5,7 +5,9 @@ Left: refinement wall time of every (pin, placement) pair, one bar group per pai
 one bar per scheduler (mean over repetitions, min-max bars), for the largest thread
 count of the first scene. Right: the local-access ratio (fraction of memory accesses
 served by the refiner's own NUMA node: tasks whose receiver lives there), from the
-local_access_ratio column of runs.csv; a panel without data says so instead of drawing zeros.
+local_access_ratio column of runs.csv; a panel without data says so instead of drawing zeros,
+and on a machine with one NUMA node (manifest.json's topology) a note says why every
+ratio is 1.0. Legends sit above the bars, in headroom left for them.
 Usage: numa.py RESULT_DIR [--out-dir DIR]
 """
 import common
@@ -19,6 +21,7 @@ pairs = sorted({(r["pin"], r["placement"]) for r in rows})
 schedulers = common.unique(rows, "scheduler")
 fig, (a, b) = common.figure(1, 2)
 width = 0.8 / max(1, len(schedulers))
+nodes = manifest.get("topology", {}).get("numa_nodes")
 have_ratio = any(common.is_finite(r.get("local_access_ratio")) for r in rows)
 for panel, column in ((a, "refine_wall_s"), (b, "local_access_ratio")):
     if column == "local_access_ratio" and not have_ratio:
@@ -28,6 +31,7 @@ for panel, column in ((a, "refine_wall_s"), (b, "local_access_ratio")):
         panel.set_yticks([])
         continue
     stats = common.mean_by(rows, ("pin", "placement", "scheduler"), column)
+    top = max([v[2] for v in stats.values()] + [0])
     for i, s in enumerate(schedulers):
         xs, means, err = [], [], [[], []]
         for j, pair in enumerate(pairs):
@@ -41,8 +45,17 @@ for panel, column in ((a, "refine_wall_s"), (b, "local_access_ratio")):
     panel.set_xticks(range(len(pairs)))
     panel.set_xticklabels([f"pin {p}\n{q}" for p, q in pairs], fontsize=7)
     panel.set_xlabel("thread pinning / memory placement")
-    panel.legend(fontsize=7, title="scheduler", title_fontsize=7)
+    # Headroom above the tallest bar for the legend, so that it covers no bar.
+    panel.set_ylim(0, 1.3 * top if top > 0 else 1)
+    panel.legend(fontsize=7, title="scheduler", title_fontsize=7, loc="upper center",
+                 ncol=max(1, len(schedulers)), frameon=False)
     panel.grid(True, axis="y", alpha=0.3)
+    if column == "local_access_ratio" and nodes == 1:
+        panel.text(0.5, 0.5, "this machine has one NUMA node: every task's receiver is on\n"
+                   "the refiner's node, so every ratio is 1.0 (multi-node studies:\n"
+                   "HWLOC_SYNTHETIC or HWLOC_XMLFILE, see README \"NUMA studies\")",
+                   ha="center", va="center", fontsize=7, transform=panel.transAxes,
+                   bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "grey"})
 a.set_ylabel(f"refinement wall time (s), {threads} threads")
 a.set_title(common.scene_label(scene))
 b.set_ylabel("local-access ratio (fraction of accesses)")

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """All schedulers side by side.
 
-Six panels against refiner threads, one line per scheduler (and per other swept
-value, e.g. block size), for the first scene (one figure per scene: NAME-<i>.png
-when there are several): refinement wall time, speedup T(1)/T(P) (same scheduler),
+Six panels against refiner threads, each titled with its quantity and the scene, one
+line per scheduler (and per other swept value, e.g. block size); one figure per scene
+(NAME-<i>.png when there are several): refinement wall time, speedup T(1)/T(P) (same scheduler),
 time waiting on the scheduler lock, time waiting on element and link locks, refiner
 idle time, and tasks stolen (stealing) per iteration sum. All from runs.csv.
 Usage: schedulers.py RESULT_DIR [--out-dir DIR]
@@ -11,12 +11,13 @@ Usage: schedulers.py RESULT_DIR [--out-dir DIR]
 import common
 
 PANELS = [
-    ("refine_wall_s", "refinement wall time (s)"),
-    ("speedup", "speedup T(1) / T(P)"),
-    ("lock_wait_scheduler_s", "scheduler lock wait, summed over refiners (s)"),
-    ("lock_wait_data_s", "element + link lock wait, summed (s)"),
-    ("idle_s", "refiner idle time, summed (s)"),
-    ("steals", "tasks stolen"),
+    ("refine_wall_s", "refinement wall time (s)", "refinement time"),
+    ("speedup", "speedup T(1) / T(P)", "speedup"),
+    ("lock_wait_scheduler_s", "scheduler lock wait, summed over refiners (s)",
+     "scheduler lock wait"),
+    ("lock_wait_data_s", "element + link lock wait, summed (s)", "element and link lock wait"),
+    ("idle_s", "refiner idle time, summed (s)", "refiner idle time"),
+    ("steals", "tasks stolen", "tasks stolen (stealing)"),
 ]
 
 args = common.parse_args(__doc__)
@@ -32,7 +33,7 @@ for n, scene in enumerate(scenes):
         one = base.get((r["scheduler"], r["variant"], 1))
         r["speedup"] = one[0] / r["refine_wall_s"] if one and r["refine_wall_s"] else None
     fig, axes = common.figure(2, 3, width=5.0, height=3.8)
-    for ax, (column, ylabel) in zip(axes, PANELS):
+    for ax, (column, ylabel, title) in zip(axes, PANELS):
         stats = common.mean_by(rows, ("scheduler", "variant", "threads"), column)
         for key in sorted({k[:2] for k in stats}, key=str):
             xs = sorted(k[2] for k in stats if k[:2] == key)
@@ -41,8 +42,8 @@ for n, scene in enumerate(scenes):
         common.threads_axis(ax, common.unique(rows, "threads"))
         ax.set_ylabel(ylabel, fontsize=8)
         ax.set_ylim(bottom=0)
-    axes[0].legend(fontsize=7)
-    axes[0].set_title(common.scene_label(scene), fontsize=9)
+        ax.set_title(f"{title}: {common.scene_label(scene)}", fontsize=9)
+    axes[0].legend(fontsize=7, loc="best")
     name = "schedulers" if len(scenes) == 1 else f"schedulers-{n + 1}"
     common.save(fig, args.out_dir, name,
                 common.caption(manifest, rows, "Schedulers side by side"))

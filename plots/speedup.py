@@ -13,8 +13,12 @@ curves are drawn dashed and labelled "simulated"; when the CSV also holds measur
 rows (kind "measured", from `hrad simulate --measured STATS.json`), each simulated
 curve's label gives its error against them at 1 and 2 processors and says whether it
 is within 10% (the simulator's validation target).
+The caption's command then carries --simulated, and the dashed curves' labels say that
+they replay a trace of their own scene and settings (the trace file, `source`).
 Usage: speedup.py RESULT_DIR [--out-dir DIR] [--simulated CSV]
 """
+import os
+
 import common
 
 
@@ -88,9 +92,12 @@ if args.simulated:
     for key in sorted({(r["scene"], r.get("scheduler"), r.get("block_size")) for r in sim}, key=str):
         pts = sorted((r["procs"], r["speedup"]) for r in sim
                      if (r["scene"], r.get("scheduler"), r.get("block_size")) == key)
+        traces = sorted({os.path.basename(str(r.get("source") or "")) for r in sim
+                         if (r["scene"], r.get("scheduler"), r.get("block_size")) == key} - {""})
         a.plot([p[0] for p in pts], [p[1] for p in pts], linestyle="--",
-               label=f"simulated: {common.scene_label(key[0])}, {key[1]}, block {key[2]}"
-                     + validation(sim, measured, key))
+               label=f"simulated (hrad simulate{' of ' + ', '.join(traces) if traces else ''}):"
+                     f"\n{common.scene_label(key[0])}, {key[1]}, block {key[2]}, its own trace's "
+                     "settings,\nnot those of the measured curves" + validation(sim, measured, key))
         top = max(top, max(p[0] for p in pts))
 ideal(a, top)
 if top > 8:  # simulated curves far beyond the measured threads: log-log
@@ -108,5 +115,10 @@ common.threads_axis(b, common.unique(runs, "threads"))
 for ax in (a, b):
     ax.set_ylabel("speedup T(1) / T(P) of refinement wall time")
     ax.legend(fontsize=7)
-common.save(fig, args.out_dir, "speedup",
-            common.caption(manifest, runs, "Speedup (paper Fig. 5)"))
+title = "Speedup (paper Fig. 5)"
+extra = ""
+if args.simulated:
+    title += ("; dashed: simulated from a task trace (hrad simulate), whose scene, settings "
+              "and revision are its own")
+    extra = f" --simulated {os.path.basename(args.simulated)}"
+common.save(fig, args.out_dir, "speedup", common.caption(manifest, runs, title, extra))

@@ -37,7 +37,8 @@ TEST_F(Cli, SolveHelpMentionsEveryOption) {
   for (const char* opt :
        {"--scheduler", "--block-size", "--threads", "--oracle", "--eps", "--min-area",
         "--iterations", "--pin", "--placement", "--probes", "--image", "--out", "--seed",
-        "--config", "--set", "--quiet", "--camera", "--view", "SCENE"})
+        "--config", "--set", "--quiet", "--camera", "--view", "--shading", "--exposure",
+        "--hdr", "SCENE"})
     EXPECT_TRUE(contains(r.out, opt)) << opt << "\n" << r.out;
   EXPECT_TRUE(contains(r.out, "default 4"));  // --iterations shows its default
 }

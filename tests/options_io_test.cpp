@@ -48,6 +48,8 @@ SolverOptions non_default_options() {
   o.camera = "eye=1,2,3:look=0,0.5,-1e-3:fov=30";
   o.sides = "one";
   o.segments = 24;
+  o.shading = "flat";
+  o.exposure = -2.5;
   return o;
 }
 
@@ -73,6 +75,8 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.trace, b.trace);
   EXPECT_EQ(a.image_width, b.image_width);
   EXPECT_EQ(a.max_memory_gb, b.max_memory_gb);
+  EXPECT_EQ(a.shading, b.shading);
+  EXPECT_EQ(a.exposure, b.exposure);
 }
 
 TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
@@ -83,7 +87,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
     EXPECT_TRUE(j.contains(i.name)) << i.name;
     EXPECT_FALSE(i.help.empty()) << i.name;
   }
-  EXPECT_EQ(names.size(), 27u);  // one per field of SolverOptions
+  EXPECT_EQ(names.size(), 29u);  // one per field of SolverOptions
   EXPECT_EQ(j.size(), names.size());
   EXPECT_EQ(j["scheduler"], "stack");
   EXPECT_EQ(j["iterations"], 4);
@@ -235,6 +239,8 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
       {"max_gather_sweeps=0", "max_gather_sweeps"},
       {"locks_pool=-2", "locks_pool"},
       {"image_width=0", "image_width"},
+      {"shading=phong", "shading"},
+      {"exposure=65", "exposure"},
       {"pin=sideways", "pin"},
       {"placement=node7", "placement"},
       {"scheduler=", "scheduler"},

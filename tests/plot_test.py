@@ -6,8 +6,15 @@ Runs SCRIPT on the synthetic result folder DATA_DIR, writing into OUT_DIR, and c
 that FIGURE.png is a PNG and FIGURE.svg an SVG whose text holds the axis label LABEL,
 the machine from the manifest and "Regenerate: hrad experiment
 experiments/configs/CONFIG.json". Then checks that the script refuses a folder without
-runs.csv (non-zero exit, no figure written).
+runs.csv (non-zero exit, no figure written), and that without matplotlib (hidden by a
+stand-in package on PYTHONPATH whose import fails) the script exits non-zero with one
+line on stderr naming matplotlib, no traceback and no figure. For numa, a one-node
+manifest must get the note saying why every ratio is 1.0; for speedup with
+--simulated, the caption's command carries --simulated and the dashed curve's label
+says that it is not the measured runs' settings.
 """
+import csv
+import json
 import os
 import shutil
 import subprocess
@@ -41,6 +48,54 @@ for needle in ("<svg", label, "synthetic-host",
         fail(f"{svg} lacks {needle!r}")
 if extra and "simulated" not in text:
     fail(f"{svg}: the simulated curves are not labelled")
+if extra and figure == "speedup":
+    for needle in (f"--simulated {os.path.basename(extra[-1])}", "not those of the measured"):
+        if needle not in text:
+            fail(f"{svg} lacks {needle!r}")
+
+# Without matplotlib: one clear line, not a traceback.
+hidden = tempfile.mkdtemp()
+try:
+    os.makedirs(os.path.join(hidden, "stub", "matplotlib"))
+    with open(os.path.join(hidden, "stub", "matplotlib", "__init__.py"), "w") as f:
+        f.write("raise ImportError(\"No module named 'matplotlib' (hidden by plot_test)\")\n")
+    env = dict(os.environ, PYTHONPATH=os.path.join(hidden, "stub"))
+    out_dir = os.path.join(hidden, "out")
+    r = subprocess.run([sys.executable, script, data, "--out-dir", out_dir, *extra],
+                       capture_output=True, text=True, env=env)
+    lines = r.stderr.strip().splitlines()
+    if r.returncode == 0 or "Traceback" in r.stderr or len(lines) != 1 \
+            or "matplotlib" not in lines[0]:
+        fail(f"{script} without matplotlib: status {r.returncode}, stderr:\n{r.stderr}")
+    if os.path.exists(out_dir) and os.listdir(out_dir):
+        fail(f"{script} without matplotlib wrote {os.listdir(out_dir)}")
+finally:
+    shutil.rmtree(hidden)
+
+# numa on a one-node machine: every ratio is 1.0, and the figure says why.
+if figure == "numa":
+    one = tempfile.mkdtemp()
+    try:
+        with open(os.path.join(data, "manifest.json")) as f:
+            manifest = json.load(f)
+        manifest["topology"] = {"numa_nodes": 1}
+        with open(os.path.join(one, "manifest.json"), "w") as f:
+            json.dump(manifest, f)
+        with open(os.path.join(data, "runs.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        for row in rows:
+            row["local_access_ratio"] = "1.0"
+        with open(os.path.join(one, "runs.csv"), "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+        r = subprocess.run([sys.executable, script, one], capture_output=True, text=True)
+        if r.returncode != 0:
+            fail(f"{script} on one node failed:\n{r.stderr}")
+        if "one NUMA node" not in open(os.path.join(one, "numa.svg"), encoding="utf-8").read():
+            fail(f"{script}: the one-node figure does not say why every ratio is 1.0")
+    finally:
+        shutil.rmtree(one)
 
 empty = tempfile.mkdtemp()
 try:

@@ -1,0 +1,85 @@
+// End-to-end tests of the image options of `hrad solve`: --hdr (a Portable Float Map of
+// the radiance), --exposure (stops over the automatic exposure), --shading, and the
+// "image" block of stats.json.
+#include "core/pfm.h"
+#include "tests/cli_fixture.h"
+#include "tests/read_text.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace {
+
+using hrad::test::Cli;
+using hrad::test::contains;
+using hrad::test::Result;
+using hrad::test::read_text;
+
+// Every face of the furnace emits E = 1 and reflects nothing, so B = 1 everywhere and
+// every pixel (the camera stands inside the closed room) shows L = B / pi.
+constexpr const char* kFurnace = "solve 'builtin:furnace?rho=0' --iterations 1 --quiet";
+
+nlohmann::json stats(const std::filesystem::path& dir) {
+  return nlohmann::json::parse(read_text(dir / "stats.json"));
+}
+
+TEST_F(Cli, HdrImageHoldsTheRadianceOfAKnownScene) {
+  const Result r = hrad(std::string(kFurnace) + " --set image_width=64 --hdr hdr/f.pfm --out run");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string bytes = read_text(dir_ / "hdr" / "f.pfm");
+  const std::string header = "PF\n64 48\n-1.0\n";
+  ASSERT_EQ(bytes.substr(0, header.size()), header);
+  const hrad::Image img = hrad::decode_pfm(bytes);
+  for (std::size_t i = 0; i < img.radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(img.radiance[i][c], 1 / std::numbers::pi, 1e-6) << "pixel " << i;
+  const nlohmann::json j = stats(dir_ / "run");
+  EXPECT_EQ(j["outputs"]["hdr"], "hdr/f.pfm");
+  EXPECT_EQ(j["image"]["shading"], "smooth");
+  EXPECT_EQ(j["image"]["width"], 64);
+  EXPECT_EQ(j["image"]["height"], 48);
+  // Automatic exposure: the key 0.18 over the log-average luminance 1 / pi.
+  EXPECT_NEAR(j["image"]["exposure"]["automatic"].get<double>(), 0.18 * std::numbers::pi, 1e-6);
+  EXPECT_EQ(j["image"]["exposure"]["stops"], 0.0);
+  EXPECT_EQ(j["image"]["exposure"]["applied"], j["image"]["exposure"]["automatic"]);
+}
+
+TEST_F(Cli, ExposureStopsScaleTheAutomaticExposure) {
+  ASSERT_EQ(hrad(std::string(kFurnace) + " --set image_width=16 --exposure -1.5 --out a").status, 0);
+  const nlohmann::json e = stats(dir_ / "a")["image"]["exposure"];
+  EXPECT_EQ(e["stops"], -1.5);
+  EXPECT_NEAR(e["applied"].get<double>(), e["automatic"].get<double>() * std::exp2(-1.5), 1e-12);
+  EXPECT_EQ(stats(dir_ / "a")["config"]["exposure"], -1.5);
+  // The config key does the same.
+  write("c.json", R"({"exposure": 2, "shading": "flat"})");
+  ASSERT_EQ(hrad(std::string(kFurnace) + " --set image_width=16 --config c.json --out b").status, 0);
+  const nlohmann::json b = stats(dir_ / "b")["image"];
+  EXPECT_NEAR(b["exposure"]["applied"].get<double>(), 4 * b["exposure"]["automatic"].get<double>(),
+              1e-12);
+  EXPECT_EQ(b["shading"], "flat");
+}
+
+TEST_F(Cli, BadImageOptionsAreNamedAndCreateNoFolder) {
+  const struct {
+    const char* args;
+    const char* says;
+  } cases[] = {
+      {"--shading gouraud", "shading"},
+      {"--exposure 100", "exposure"},
+      {"--exposure nan", "exposure"},
+      {"--set shading=", "shading"},
+      {"--hdr out.exr", ".pfm"},
+  };
+  for (const auto& c : cases) {
+    const Result r = hrad(std::string(kFurnace) + " " + c.args + " --out run");
+    EXPECT_EQ(r.status, 1) << c.args;
+    EXPECT_TRUE(contains(r.err, c.says)) << c.args << ": " << r.err;
+    EXPECT_EQ(entries(), 0) << c.args;
+  }
+}
+
+}  // namespace
