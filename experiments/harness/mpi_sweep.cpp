@@ -424,9 +424,11 @@ class Coordinator {
     start_ = now_s();
     cpu_start_ = process_cpu_s();
     const ExperimentConfig& config = inputs_.config;
-    if (config.accuracy.enabled)
-      for (const SweepPoint& p : points_) (void)accuracy_probes(config.accuracy, p.scene);
     try {
+      // Bad probe files are bad input: reported before the folder is made (and the
+      // workers told to stop, as for every error here).
+      if (config.accuracy.enabled)
+        for (const SweepPoint& p : points_) (void)accuracy_probes(config.accuracy, p.scene);
       folder_.emplace(inputs_, points_, settings_.dir);
       summary_.runs = folder_->runs();
       summary_.skipped = folder_->skipped();
