@@ -11,12 +11,17 @@
 //   5. the config's plot scripts run on the folder (unless --no-plot).
 // Exit status: 0 on success; 1 for bad input or a failed run (message on stderr
 // starting with "hrad: "); 2 when the runs succeeded but a plot failed.
+//
+// Under mpirun with more than one rank (experiments/harness/mpi_sweep.h) every rank
+// reads the config; only rank 0 reports, writes and plots, and step 4 is spread over
+// the ranks. Every rank leaves through mpi::end once MPI has started.
 #include "core/interrupt.h"
 #include "core/scene_loader.h"
 #include "experiments/commands.h"
 #include "experiments/harness/experiment_config.h"
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/manifest.h"
+#include "experiments/harness/mpi_sweep.h"
 #include "experiments/harness/plot_runner.h"
 #include "experiments/harness/sweep.h"
 
@@ -38,6 +43,8 @@ struct ExperimentArgs {
   std::string config, out, resume, plots_dir, simulated;
   std::vector<std::string> sets;
   bool quick = false, no_plot = false, quiet = false, dry_run = false;
+  double worker_timeout = 60;
+  std::string rank_cores = "share";
 };
 
 // Whether `hrad experiment CONFIG --resume DIR` would carry on: DIR holds the results
@@ -54,6 +61,12 @@ bool resumable(const fs::path& dir, const ExperimentConfig& config) {
 }
 
 int run_command(ExperimentArgs a, const CommandContext& ctx) {
+  // Started by an MPI launcher with several ranks: rank 0 speaks for all of them.
+  const mpi::LaunchInfo launch = mpi::launch_info();
+  const bool distributed = launch.size > 1, lead = launch.rank == 0;
+  const auto print_error = [lead](std::string_view message) {
+    if (lead) cli::print_error(message);
+  };
   ExperimentConfig config;
   std::vector<SweepPoint> points;
   try {
@@ -79,11 +92,15 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     return 1;
   }
   if (!a.out.empty() && !a.resume.empty() && fs::path(a.out) != fs::path(a.resume)) {
-    fmt::print(stderr, "hrad: --out and --resume name different folders\n");
+    print_error("--out and --resume name different folders");
     return 1;
   }
+  mpi::Options mpi_options;
+  mpi_options.worker_timeout_s = a.worker_timeout;
+  mpi_options.cores = a.rank_cores == "inherit" ? mpi::RankCores::Inherit : mpi::RankCores::Share;
 
   if (a.dry_run) {
+    if (!lead) return 0;
     fmt::print("{}: {} points x {} repetitions = {} runs\n", config.name, points.size(),
                config.repetitions, points.size() * static_cast<std::size_t>(config.repetitions));
     for (const SweepPoint& p : points)
@@ -94,9 +111,9 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
   fs::path dir;
   if (!a.resume.empty()) {
     dir = a.resume;
-    if (!is_result_folder(dir)) {
-      fmt::print(stderr, "hrad: --resume {}: not an experiment result folder (no manifest.json)\n",
-                 a.resume);
+    if (lead && !is_result_folder(dir)) {
+      print_error(fmt::format("--resume {}: not an experiment result folder (no manifest.json)",
+                              a.resume));
       return 1;
     }
   } else if (!a.out.empty()) {
@@ -121,8 +138,21 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
   RunnerSettings settings;
   settings.dir = dir;
   settings.quiet = a.quiet;
+  // Once MPI has started, every way out goes through mpi::end.
+  const auto leave = [distributed](int status) {
+    if (distributed) mpi::end(status);
+    return status;
+  };
+  bool mpi_started = false;
   try {
-    const ExperimentSummary s = run_experiment(inputs, points, settings);
+    if (distributed) {
+      mpi::init();
+      mpi_started = true;
+    }
+    const ExperimentSummary s =
+        distributed ? mpi::run_sweep(inputs, points, settings, mpi_options)
+                    : run_experiment(inputs, points, settings);
+    if (!lead) return leave(0);
     if (!a.quiet)
       fmt::print("Experiment {}: {} runs ({} run now, {} already done) in {:.1f} s. Results in "
                  "{}: runs.csv, iterations.csv, manifest.json.\n",
@@ -136,21 +166,26 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
                                               "{} --resume {}",
                                               a.config, dir.string())
                                 : std::string("no run had finished")));
-    return e.exit_status();
+    return mpi_started ? leave(e.exit_status()) : e.exit_status();
   } catch (const std::exception& e) {
+    if (distributed && !lead) {
+      // A worker's own failure (rank 0 reports failed runs): say which rank.
+      fmt::print(stderr, "hrad: rank {}: {}\n", launch.rank, e.what());
+      return mpi_started ? leave(1) : 1;
+    }
     print_error(e.what());
     if (resumable(dir, config))
       fmt::print(stderr, "hrad: finished runs are kept; resume with: hrad experiment {} --resume {}\n",
                  a.config, dir.string());
-    return 1;
+    return mpi_started ? leave(1) : 1;
   }
 
   std::fflush(stdout);  // the summary before the plots' own lines
-  if (a.no_plot) return 0;
+  if (a.no_plot) return leave(0);
   std::vector<std::string> extra;
   if (!a.simulated.empty()) extra = {"--simulated", a.simulated};
   const fs::path plots_dir = a.plots_dir.empty() ? default_plots_dir() : fs::path(a.plots_dir);
-  return run_plots(config.plots, dir, plots_dir, extra, stderr) ? 0 : 2;
+  return leave(run_plots(config.plots, dir, plots_dir, extra, stderr) ? 0 : 2);
 }
 
 }  // namespace
@@ -194,6 +229,18 @@ void register_experiment(CLI::App& app, CommandContext& ctx) {
       ->type_name("FILE");
   sub->add_flag("--dry-run", args->dry_run, "List the points and exit; nothing is run or written");
   sub->add_flag("--quiet", args->quiet, "No progress lines and no summary");
+  sub->add_option("--worker-timeout", args->worker_timeout,
+                  "Under mpirun: seconds without a heartbeat after which a worker rank is taken "
+                  "for dead and its run handed to another (needs mpirun --enable-recovery) "
+                  "[default: 60]")
+      ->type_name("SECONDS")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--rank-cores", args->rank_cores,
+                  "Under mpirun: 'share' splits a host's CPUs between the worker ranks on it "
+                  "(launch with --bind-to none); 'inherit' keeps the launcher's binding (one "
+                  "rank per host) [default: share]")
+      ->type_name("share|inherit")
+      ->check(CLI::IsMember({"share", "inherit"}));
   sub->callback([args, &ctx] { ctx.status = run_command(*args, ctx); });
 }
 

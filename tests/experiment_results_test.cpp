@@ -116,6 +116,48 @@ TEST(ExperimentResultFiles, PartialFilesAreCleanedOnResume) {
   EXPECT_EQ(parse_csv(read_text(d.path / "iterations.csv")).rows.size(), 1u + 6u);
 }
 
+TEST(ExperimentResultFiles, OutOfOrderRunsAreSortedIntoRunOrder) {
+  TempDir d("hrad_results_sort");
+  const auto its_of = [](const CsvText& t) {
+    std::vector<std::pair<std::string, std::string>> ids;
+    const std::size_t p = column_index(iteration_columns(), "point");
+    const std::size_t r = column_index(iteration_columns(), "repetition");
+    for (std::size_t i = 1; i < t.rows.size(); ++i) ids.emplace_back(t.rows[i][p], t.rows[i][r]);
+    return ids;
+  };
+  {
+    // As MPI ranks finish: (1,0), (0,1), then (0,0); reopened, (2,0) lands last.
+    ResultFiles f(d.path);
+    f.append({1, 0}, rows_for(1, 0, 2));
+    f.append({0, 1}, rows_for(0, 1, 1));
+    f.append({0, 0}, rows_for(0, 0, 3));
+  }
+  ResultFiles f(d.path);
+  f.append({2, 0}, rows_for(2, 0, 1));
+  const std::string unsorted = read_text(d.path / "runs.csv");
+  f.sort_by_run();
+  const CsvText runs = parse_csv(read_text(d.path / "runs.csv"));
+  ASSERT_EQ(runs.rows.size(), 5u);
+  const std::size_t p = column_index(run_columns(), "point");
+  const std::size_t r = column_index(run_columns(), "repetition");
+  std::vector<std::pair<std::string, std::string>> ids;
+  for (std::size_t i = 1; i < runs.rows.size(); ++i) ids.emplace_back(runs.rows[i][p], runs.rows[i][r]);
+  const std::vector<std::pair<std::string, std::string>> order = {
+      {"0", "0"}, {"0", "1"}, {"1", "0"}, {"2", "0"}};
+  EXPECT_EQ(ids, order);
+  EXPECT_NE(read_text(d.path / "runs.csv"), unsorted);
+  const auto it_ids = its_of(parse_csv(read_text(d.path / "iterations.csv")));
+  const std::vector<std::pair<std::string, std::string>> it_order = {
+      {"0", "0"}, {"0", "0"}, {"0", "0"}, {"0", "1"}, {"1", "0"}, {"1", "0"}, {"2", "0"}};
+  EXPECT_EQ(it_ids, it_order);
+  // Still open for appending after the rewrite; sorted files are left as they are.
+  f.append({3, 0}, rows_for(3, 0, 1));
+  const std::string sorted = read_text(d.path / "runs.csv");
+  f.sort_by_run();
+  EXPECT_EQ(read_text(d.path / "runs.csv"), sorted);
+  EXPECT_EQ(parse_csv(sorted).rows.size(), 6u);
+}
+
 TEST(ExperimentResultFiles, ForeignFilesAreRejected) {
   TempDir d("hrad_results_foreign");
   std::ofstream(d.path / "runs.csv") << "a,b,c\n1,2,3\n";

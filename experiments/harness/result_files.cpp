@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <sstream>
 #include <stdexcept>
@@ -74,6 +75,7 @@ ResultFiles::ResultFiles(const fs::path& dir) : dir_(dir) {
         throw std::runtime_error(fmt::format("{}:{}: point {} repetition {} appears twice",
                                              runs.string(), line, id.point, id.repetition));
       kept_runs.push_back(r);
+      order_.push_back(id);
       done_.emplace(id, std::move(r));
     }
   }
@@ -90,11 +92,43 @@ ResultFiles::ResultFiles(const fs::path& dir) : dir_(dir) {
   // Both files now hold exactly the finished runs, whatever state they were left in.
   write_all(iterations, ic, kept_iterations);
   write_all(runs, rc, kept_runs);
-  runs_.open(runs, std::ios::app | std::ios::binary);
-  iterations_.open(iterations, std::ios::app | std::ios::binary);
+  open_for_append();
+}
+
+void ResultFiles::open_for_append() {
+  runs_.open(dir_ / kRuns, std::ios::app | std::ios::binary);
+  iterations_.open(dir_ / kIterations, std::ios::app | std::ios::binary);
   if (!runs_ || !iterations_)
     throw std::runtime_error(fmt::format("{}: cannot open the result files for appending",
-                                         dir.string()));
+                                         dir_.string()));
+}
+
+void ResultFiles::sort_by_run() {
+  if (std::is_sorted(order_.begin(), order_.end())) return;
+  runs_.close();
+  iterations_.close();
+  const fs::path iterations = dir_ / kIterations;
+  const auto& ic = iteration_columns();
+  const std::size_t point = column_index(ic, "point"), rep = column_index(ic, "repetition");
+  // Every row on disk belongs to a run in done_ (the constructor and append keep it so).
+  std::map<RunId, std::vector<Row>> by_run;
+  std::size_t line = 1;
+  for (Row& r : read_rows(iterations, ic)) {
+    ++line;
+    const RunId id{to_int(r[point], iterations, line, "point"),
+                   to_int(r[rep], iterations, line, "repetition")};
+    by_run[id].push_back(std::move(r));
+  }
+  std::vector<Row> runs, iteration_rows;
+  for (const auto& [id, row] : done_) {
+    runs.push_back(row);
+    for (Row& r : by_run[id]) iteration_rows.push_back(std::move(r));
+  }
+  write_all(iterations, ic, iteration_rows);
+  write_all(dir_ / kRuns, run_columns(), runs);
+  order_.clear();
+  for (const auto& [id, row] : done_) order_.push_back(id);
+  open_for_append();
 }
 
 void ResultFiles::append(const RunId& id, const RunRows& rows) {
@@ -106,6 +140,7 @@ void ResultFiles::append(const RunId& id, const RunRows& rows) {
   runs_.flush();
   if (!runs_) throw std::runtime_error(fmt::format("{}: write failed", (dir_ / kRuns).string()));
   done_.emplace(id, rows.run);
+  order_.push_back(id);
 }
 
 }  // namespace hrad::experiment

@@ -5,7 +5,9 @@
 // flushed first, then the runs.csv row. Reopening a folder (resume) reads runs.csv,
 // checks its header against run_columns(), drops a last line that was cut off, drops
 // the iterations.csv rows of runs that have no runs.csv row, and rewrites both files
-// atomically (core/atomic_file.h) before appending again.
+// atomically (core/atomic_file.h) before appending again. Runs may land out of run
+// order (the ranks of an MPI sweep finish in any order); sort_by_run() puts both files
+// into run order at the end.
 #pragma once
 
 #include "experiments/harness/run_rows.h"
@@ -31,12 +33,19 @@ class ResultFiles {
   /// Throws std::runtime_error when a write fails.
   void append(const RunId& id, const RunRows& rows);
 
+  /// Rewrites both files (atomically) with the runs in run order (point, then
+  /// repetition), each run's iteration rows in their order; a no-op when the runs are
+  /// in run order already. Throws std::runtime_error when a write fails.
+  void sort_by_run();
+
   static constexpr const char* kRuns = "runs.csv";
   static constexpr const char* kIterations = "iterations.csv";
 
  private:
   std::filesystem::path dir_;
   std::map<RunId, Row> done_;
+  std::vector<RunId> order_;  ///< the runs in file order
+  void open_for_append();
   std::ofstream runs_, iterations_;
 };
 

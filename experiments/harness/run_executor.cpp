@@ -1,0 +1,71 @@
+#include "experiments/harness/run_executor.h"
+
+#include "core/clock.h"
+#include "core/progress.h"
+#include "core/scene_loader.h"
+#include "core/solver.h"
+#include "experiments/harness/manifest.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <thread>
+
+namespace hrad::experiment {
+
+namespace fs = std::filesystem;
+
+RunExecutor::RunExecutor(const ExperimentConfig& config, fs::path dir, std::FILE* log, bool quiet,
+                         bool cached_references_only)
+    : config_(config), dir_(std::move(dir)), log_(log), quiet_(quiet),
+      cached_only_(cached_references_only) {}
+
+void RunExecutor::load(const std::string& spec, const SceneLoadOptions& options) {
+  scene_.reset();  // free the previous scene before loading the next
+  reference_.reset();
+  scene_ = load_scene(spec, options);
+  scene_spec_ = spec;
+  scene_options_ = options;
+  if (!quiet_)
+    for (const std::string& w : scene_->warnings)
+      fmt::print(log_, "hrad: warning: {}: {}\n", spec, w);
+  if (!config_.accuracy.enabled) return;
+  const fs::path cached = dir_ / reference_file_name(spec);
+  if (cached_only_ && !fs::exists(cached))
+    throw std::runtime_error(fmt::format(
+        "{}: no accuracy reference there; rank 0 writes it before any run, so the result "
+        "folder must be on a file system every rank sees",
+        cached.string()));
+  reference_ = scene_reference(dir_, spec, *scene_, config_.accuracy,
+                               static_cast<int>(std::max(1u, std::thread::hardware_concurrency())),
+                               log_, quiet_);
+}
+
+RunOutcome RunExecutor::run(const SweepPoint& p, int repetition, const std::string& label) {
+  // A new scene, or the same one loaded with other `sides` or `segments`.
+  const SceneLoadOptions options = scene_load_options(p.options);
+  if (!scene_ || scene_spec_ != p.scene || !(scene_options_ == options)) load(p.scene, options);
+  const bool draw = !quiet_ && ::isatty(::fileno(log_)) == 1;
+  ProgressReporter progress(log_, draw, [] { return Clock::now(); });
+  const auto start = Clock::now();
+  const std::string started = now_iso8601();
+  RunStats stats;
+  RunOutcome out;
+  {
+    Solver solver(*scene_, p.options, [&](const std::string& phase, double f) {
+      progress.update(label + " " + phase, f);
+    });
+    stats = solver.run();
+    if (reference_) out.accuracy = measure_accuracy(solver, *reference_, config_.accuracy);
+  }
+  progress.finish();
+  out.rows = make_run_rows(config_.name, p, repetition, stats, started,
+                           out.accuracy ? &*out.accuracy : nullptr);
+  out.task_cpu_ns = stats.totals.task_cpu_ns;
+  out.seconds = seconds_since(start);
+  return out;
+}
+
+}  // namespace hrad::experiment
