@@ -393,7 +393,7 @@ RenderMesh Solver::render_mesh(Shading shading) const {
     p.normal = e->normal;
     p.material = e->material;
     p.area = e->area;
-    p.open = e->open < 0 ? 1.0 : static_cast<double>(e->open);
+    p.open = open_weight(*e);
     p.radiosity = e->B;
     p.reflectance = e->rho;
     patches.push_back(p);

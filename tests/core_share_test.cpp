@@ -1,4 +1,5 @@
 // How worker ranks on one host split its CPUs (experiments/harness/core_share.h).
+#include "core/pin_plan.h"
 #include "experiments/harness/core_share.h"
 
 #include <gtest/gtest.h>
@@ -31,9 +32,9 @@ TEST(CoreShare, RejectsMoreSlicesThanCpusAndBadIndices) {
 }
 
 TEST(CoreShare, FormatsRanges) {
-  EXPECT_EQ(format_cpus({0, 1, 2, 3, 8, 10, 11}), "0-3,8,10-11");
-  EXPECT_EQ(format_cpus({5}), "5");
-  EXPECT_EQ(format_cpus({}), "");
+  EXPECT_EQ(format_pu_list({0, 1, 2, 3, 8, 10, 11}), "0-3,8,10-11");
+  EXPECT_EQ(format_pu_list({5}), "5");
+  EXPECT_EQ(format_pu_list({}), "");
 }
 
 TEST(CoreShare, ThisProcessHasCpusAndCanBindToThemAll) {

@@ -1,5 +1,7 @@
 #include "experiments/harness/core_share.h"
 
+#include "core/pin_plan.h"
+
 #include <fmt/format.h>
 #include <sched.h>
 
@@ -38,19 +40,8 @@ void bind_to_cpus(const std::vector<int>& cpus) {
   for (int c : cpus) CPU_SET(c, &set);
   if (::sched_setaffinity(0, sizeof set, &set) != 0)
     throw std::runtime_error(
-        fmt::format("sched_setaffinity({}): {}", format_cpus(cpus), std::strerror(errno)));
+        fmt::format("sched_setaffinity({}): {}", format_pu_list(cpus), std::strerror(errno)));
 }
 
-std::string format_cpus(const std::vector<int>& cpus) {
-  std::string out;
-  for (std::size_t i = 0; i < cpus.size();) {
-    std::size_t j = i;
-    while (j + 1 < cpus.size() && cpus[j + 1] == cpus[j] + 1) ++j;
-    if (!out.empty()) out += ',';
-    out += j == i ? fmt::format("{}", cpus[i]) : fmt::format("{}-{}", cpus[i], cpus[j]);
-    i = j + 1;
-  }
-  return out;
-}
 
 }  // namespace hrad::experiment

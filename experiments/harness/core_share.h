@@ -21,7 +21,5 @@ namespace hrad::experiment {
 /// `cpus`. Throws std::runtime_error with the system's message when refused.
 void bind_to_cpus(const std::vector<int>& cpus);
 
-/// "0-3,8,10-11".
-[[nodiscard]] std::string format_cpus(const std::vector<int>& cpus);
 
 }  // namespace hrad::experiment

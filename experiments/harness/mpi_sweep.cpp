@@ -19,6 +19,7 @@
 #include "core/scene_loader.h"
 #include "core/topology.h"
 #include "experiments/harness/accuracy.h"
+#include "core/pin_plan.h"
 #include "experiments/harness/core_share.h"
 #include "experiments/harness/csv.h"
 #include "experiments/harness/run_dispatch.h"
@@ -221,7 +222,7 @@ Placement place_ranks(RankCores cores) {
   p.cpus = cpu_slice(cpus, k, m);
   bind_to_cpus(p.cpus);
   p.shares = true;
-  p.policy = fmt::format("share {}/{} of {}", k + 1, m, format_cpus(cpus));
+  p.policy = fmt::format("share {}/{} of {}", k + 1, m, format_pu_list(cpus));
   return p;
 }
 
@@ -238,7 +239,7 @@ ojson rank_info(const Placement& place, const char* role) {
           {"role", role},
           {"host", host_name()},
           {"pid", ::getpid()},
-          {"cpus", format_cpus(place.cpus)},
+          {"cpus", format_pu_list(place.cpus)},
           {"cpu_count", place.cpus.size()},
           {"cores", place.policy},
           {"shares_host", place.shares},
