@@ -32,6 +32,9 @@
 // |                     |        |              | all: compute every effect regardless                       |
 // | shaft_culling       | string | "off"        | on: V = 1 without rays for pairs whose shaft holds no      |
 // |                     |        |              | polygon (core/shaft.h); off: always cast the rays          |
+// | decision_rays       | string | "shared"     | shared: an accepted link keeps the visibility estimate its  |
+// |                     |        |              | oracle decided on; independent: where that decision        |
+// |                     |        |              | depended on it, the estimate is drawn again (core/refiner.h)|
 // | max_memory_gb       | double | 0            | refinement stops with an error when its elements and links |
 // |                     |        |              | pass this (0: 3/4 of the machine's physical memory)        |
 // | camera              | string | ""           | render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=..][:fov=..] |
@@ -77,6 +80,7 @@ struct SolverOptions {
   int image_width = 640;
   std::string effects = "auto";
   std::string shaft_culling = "off";
+  std::string decision_rays = "shared";
   double max_memory_gb = 0;
   std::string camera;
   std::string sides = "auto";

@@ -70,6 +70,10 @@ const std::vector<Row>& rows() {
        "every effect"},
       {"shaft_culling", &S::shaft_culling,
        "on: no rays for pairs whose shaft holds no polygon (V = 1); off: always cast them"},
+      {"decision_rays", &S::decision_rays,
+       "shared: an accepted link keeps the visibility its oracle decided on; independent: "
+       "where the decision depended on it, the link's visibility is estimated again from "
+       "independent rays (unbiased, for the study of that selection)"},
       {"max_memory_gb", &S::max_memory_gb,
        "refinement stops with an error when its elements and links pass this many GB (0: "
        "3/4 of the machine's physical memory)"},
@@ -335,6 +339,8 @@ void validate_options(const SolverOptions& o) {
   check(o.effects == "auto" || o.effects == "all", "effects", o.effects, "auto or all");
   check(o.shaft_culling == "on" || o.shaft_culling == "off", "shaft_culling", o.shaft_culling,
         "on or off");
+  check(o.decision_rays == "shared" || o.decision_rays == "independent", "decision_rays",
+        o.decision_rays, "shared or independent");
   check(o.sides == "auto" || o.sides == "one" || o.sides == "two", "sides", o.sides,
         "one of auto, one, two");
   check(o.segments == 0 || (o.segments >= 3 && o.segments <= 4096), "segments",

@@ -106,6 +106,20 @@ static bool refine_receiver(const Element& r, const Element& s) {
   return r.id >= s.id;
 }
 
+/// True when the oracle's decision on `est` depends on its visibility estimate: it
+/// decides otherwise for one of V = 0, 1/2 and 1 (the classes bf and error tell apart:
+/// hidden, partly and wholly visible).
+static bool depends_on_visibility(const IOracle& oracle, LinkEstimate est,
+                                  const OracleThresholds& th) {
+  Decision d[3];
+  const double vs[3] = {0.0, 0.5, 1.0};
+  for (int i = 0; i < 3; ++i) {
+    est.visibility = vs[i];
+    d[i] = oracle.judge(est, th).decision;
+  }
+  return d[0] != d[1] || d[1] != d[2];
+}
+
 void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   Element& r = *task.receiver;
   Element& s = *task.source;
@@ -192,7 +206,19 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
     }
     if (!straddle) {
       if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
-      const Verdict v = oracle_.judge(est, OracleThresholds{limits_.eps_power, limits_.mean_irradiance});
+      const OracleThresholds th{limits_.eps_power, limits_.mean_irradiance};
+      Verdict v = oracle_.judge(est, th);
+      if ((can_r || can_s) && limits_.independent_estimates &&
+          depends_on_visibility(oracle_, est, th)) {
+        // Decide on the first rays (a reloaded link may hold the second), and if the
+        // link is accepted, estimate its visibility from the second (RefineLimits).
+        if (task.evaluated) {
+          est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 0);
+          v = oracle_.judge(est, th);
+        }
+        if (v.decision == Decision::Accept)
+          est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 1);
+      }
       error = v.error;
       if (v.decision == Decision::Accept || (!can_r && !can_s)) {
         accept = true;

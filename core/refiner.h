@@ -45,6 +45,13 @@ struct RefineLimits {
   /// Emitted power over total area: what a receiver's irradiance is compared with
   /// (OracleThresholds::mean_irradiance); 0: thresholds are not scaled.
   double mean_irradiance = 0;
+  /// Where the oracle's decision on a link depended on its visibility estimate (it
+  /// would decide otherwise at V = 0, 1/2 or 1), an accepted link's visibility is
+  /// estimated again from rays independent of the ones decided on (decision_rays =
+  /// independent). With shared rays the accepted links are those whose rays happened
+  /// to find the pair more open, and their estimates are biased high; the link set is
+  /// the same either way, since the decision always reads the first rays.
+  bool independent_estimates = false;
 };
 
 /// What one refinement stage did, summed over refiners.

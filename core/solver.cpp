@@ -145,7 +145,8 @@ RunStats Solver::run() {
   LockPool link_locks(pool, o.threads);
   const RefineLimits limits{o.eps * m.emitted_power, o.min_area * m.total_area,
                             memory_limit_bytes(o.max_memory_gb),
-                            m.total_area > 0 ? m.emitted_power / m.total_area : 0.0};
+                            m.total_area > 0 ? m.emitted_power / m.total_area : 0.0,
+                            o.decision_rays == "independent"};
   Refiner refiner(m.hierarchy, m.transport, *m.oracle, limits, element_locks, link_locks);
   refiner.set_binding(m.topology.get(), &m.plan);
   add_placement_warnings(m.plan, m.topology->info(), m.hierarchy, o, stats.warnings);

@@ -276,14 +276,15 @@ double Transport::kernel_visibility(SampleA&& sample_a, const Vec3& toward_a, do
 }
 
 double Transport::visibility(const Element& r, const Element& s, std::uint64_t& rays,
-                             std::uint64_t& skipped) const {
+                             std::uint64_t& skipped, unsigned draw) const {
   if (visibility_rays_ <= 0) return 1.0;
   // The rays would all be unblocked: their fraction is exactly 1.
   if (!visibility_on_ || (shaft_culling_ && shafts_.clear(r, s))) {
     skipped += static_cast<std::uint64_t>(visibility_rays_);
     return 1.0;
   }
-  const std::uint64_t key = mix64(mix64(r.id ^ seed_) + s.id);
+  std::uint64_t key = mix64(mix64(r.id ^ seed_) + s.id);
+  if (draw != 0) key = mix64(key + 0xD1B54A32D192ED03ull * draw);
   const auto sample_r = [&](double u1, double u2, double u3) {
     std::uint32_t fa = RayScene::kNoPolygon;
     const Vec3 a = hierarchy_.sample_point(r, u1, u2, u3, &s.center, &fa);

@@ -66,9 +66,11 @@ class Transport {
   [[nodiscard]] double form_factor_spread(const Element& r, const Element& s) const;
   /// Kernel-weighted fraction of unblocked segments (see above); adds the rays cast to
   /// `rays` and the rays not needed (visibility off for the scene, or an empty shaft:
-  /// V = 1) to `skipped`.
+  /// V = 1) to `skipped`. `draw` picks one of independent sets of random numbers for
+  /// the pair (draw 0 is the one the oracle decides on; the refiner re-draws with 1
+  /// where that decision depended on the value, core/refiner.cpp).
   [[nodiscard]] double visibility(const Element& r, const Element& s, std::uint64_t& rays,
-                                  std::uint64_t& skipped) const;
+                                  std::uint64_t& skipped, unsigned draw = 0) const;
   /// The same, without counting skipped rays.
   [[nodiscard]] double visibility(const Element& r, const Element& s, std::uint64_t& rays) const {
     std::uint64_t skipped = 0;

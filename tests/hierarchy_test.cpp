@@ -112,5 +112,41 @@ TEST(Transport, VisibilityDependsOnlyOnTheTwoElements) {
   EXPECT_TRUE(std::any_of(first.begin(), first.end(), [](double v) { return v > 0 && v < 1; }));
 }
 
+// decision_rays = independent re-estimates a link's visibility from a second set of
+// rays (draw 1): it must be repeatable, differ from draw 0 where the pair is partly
+// hidden, and estimate the same thing (its mean over the pairs agrees with draw 0's).
+TEST(Transport, SecondVisibilityDrawIsRepeatableAndIndependent) {
+  const Scene scene = make_builtin("builtin:cornell");
+  Hierarchy h(scene, 1);
+  const RayScene rays = RayScene::from_scene(scene);
+  const Transport t(h, rays, 4, 7);
+  const auto els = h.elements();
+  std::uint64_t cast = 0, skipped = 0;
+  int partial = 0, differ = 0;
+  double sum0 = 0, sum1 = 0;
+  for (std::size_t i = 0; i < els.size(); ++i)
+    for (std::size_t j = 0; j < els.size(); ++j) {
+      if (i == j || els[i]->is_cluster() || els[j]->is_cluster()) continue;
+      if (t.classify(*els[i], *els[j]) != PairClass::Regular) continue;
+      const double v0 = t.visibility(*els[i], *els[j], cast, skipped, 0);
+      const double v1 = t.visibility(*els[i], *els[j], cast, skipped, 1);
+      ASSERT_EQ(v1, t.visibility(*els[i], *els[j], cast, skipped, 1));
+      ASSERT_EQ(v0, t.visibility(*els[i], *els[j], cast));
+      ASSERT_GE(v1, 0.0);
+      ASSERT_LE(v1, 1.0);
+      if (v0 == 1 && v1 == 1) continue;
+      ++partial;
+      differ += v0 != v1 ? 1 : 0;
+      sum0 += v0;
+      sum1 += v1;
+    }
+  ASSERT_GT(partial, 20);
+  // Independent 4-ray estimates of a partly hidden pair rarely agree to the bit.
+  EXPECT_GT(differ, partial / 2);
+  // Same expectation: the means over the partly hidden pairs agree within 0.1 (their
+  // standard error here is about 0.03).
+  EXPECT_NEAR(sum0 / partial, sum1 / partial, 0.1) << partial << " pairs";
+}
+
 }  // namespace
 }  // namespace hrad

@@ -50,6 +50,7 @@ SolverOptions non_default_options() {
   o.segments = 24;
   o.shading = "flat";
   o.exposure = -2.5;
+  o.decision_rays = "independent";
   return o;
 }
 
@@ -77,6 +78,7 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.max_memory_gb, b.max_memory_gb);
   EXPECT_EQ(a.shading, b.shading);
   EXPECT_EQ(a.exposure, b.exposure);
+  EXPECT_EQ(a.decision_rays, b.decision_rays);
 }
 
 TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
@@ -87,7 +89,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
     EXPECT_TRUE(j.contains(i.name)) << i.name;
     EXPECT_FALSE(i.help.empty()) << i.name;
   }
-  EXPECT_EQ(names.size(), 29u);  // one per field of SolverOptions
+  EXPECT_EQ(names.size(), 30u);  // one per field of SolverOptions
   EXPECT_EQ(j.size(), names.size());
   EXPECT_EQ(j["scheduler"], "stack");
   EXPECT_EQ(j["iterations"], 4);
@@ -238,6 +240,7 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
       {"gather_tolerance=0", "gather_tolerance"},
       {"max_gather_sweeps=0", "max_gather_sweeps"},
       {"locks_pool=-2", "locks_pool"},
+      {"decision_rays=fresh", "decision_rays"},
       {"image_width=0", "image_width"},
       {"shading=phong", "shading"},
       {"exposure=65", "exposure"},

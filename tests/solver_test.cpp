@@ -179,6 +179,29 @@ TEST(SolverFurnace, ClutteredFurnaceAtDefaults) {
   }
 }
 
+// decision_rays = independent draws an accepted link's visibility again where the
+// oracle's decision depended on it. The decisions read the first rays in both modes,
+// so the first iteration's link set is the same; only the estimates (and so the
+// solution) differ, at the cost of more rays.
+TEST(SolverDecisionRays, IndependentEstimatesKeepTheLinkSet) {
+  const Scene scene = make_builtin("builtin:furnace?objects=2&rho=0.5");
+  SolverOptions o;
+  o.iterations = 1;
+  Solver shared(scene, o);
+  const RunStats a = shared.run();
+  o.decision_rays = "independent";
+  Solver independent(scene, o);
+  const RunStats b = independent.run();
+  ASSERT_GT(a.iterations.at(0).links_created, 1000u);
+  EXPECT_EQ(shared.link_ids(), independent.link_ids());
+  EXPECT_GT(b.iterations.at(0).rays_cast, a.iterations.at(0).rays_cast);
+  const auto la = shared.leaves(), lb = independent.leaves();
+  ASSERT_EQ(la.size(), lb.size());
+  int changed = 0;
+  for (std::size_t i = 0; i < la.size(); ++i) changed += la[i].radiosity[0] != lb[i].radiosity[0];
+  EXPECT_GT(changed, 0);
+}
+
 // Clamping row sums at 1 is a physical bound: with uniform E and rho no leaf can
 // then exceed E / (1 - rho) (maximum principle), whatever the links.
 TEST(SolverFurnace, ClampedRowSumsNeverExceedClosedForm) {
