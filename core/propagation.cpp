@@ -434,11 +434,8 @@ class Sweeper {
     }
   }
 
-  /// One sweep; returns the largest change relative to the largest radiosity.
-  double sweep() {
-    const SweepChange c = grey_ ? pass(channel0_) : pass(colour_);
-    return c.largest > 0 ? c.change / c.largest : 0.0;
-  }
+  /// One sweep; returns its largest change and largest radiosity.
+  SweepChange sweep() { return grey_ ? pass(channel0_) : pass(colour_); }
 
  private:
   template <class V>
@@ -479,6 +476,9 @@ class Sweeper {
   std::vector<double> channel0_;
 };
 
+// The largest change of a sweep relative to the largest radiosity.
+double relative(const SweepChange& c) { return c.largest > 0 ? c.change / c.largest : 0.0; }
+
 }  // namespace
 
 void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
@@ -493,7 +493,7 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads,
                          ClusterReceiver mode, bool grey) {
-  return Sweeper(elements, threads, mode, grey).sweep();
+  return relative(Sweeper(elements, threads, mode, grey).sweep());
 }
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
@@ -501,31 +501,40 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
                             const std::function<void(int sweeps, double change)>& on_sweep) {
   PropagationResult r;
   Sweeper sweeper(elements, threads, mode, grey);  // links do not change here
-  double previous = 0;
+  double previous = 0, previous_change = 0;
   int growing = 0;
   while (r.sweeps < max_sweeps && !interrupted()) {
-    const double c = sweeper.sweep();
+    const SweepChange s = sweeper.sweep();
+    const double c = relative(s);
     ++r.sweeps;
     r.last_change = c;
     if (on_sweep) on_sweep(r.sweeps, c);
+    // Past the largest double the changes are inf - inf: never "no change".
+    if (!std::isfinite(s.largest) || !std::isfinite(s.change)) {
+      r.diverged = true;
+      break;
+    }
     if (c < 1e-13) {  // at round-off: nothing left to converge
       r.converged = true;
       break;
     }
+    // Growth is judged on the change itself: with rho K's spectral radius q >= 1 it
+    // grows (or stays) by q every sweep, while the change relative to the radiosity,
+    // which grows too, falls towards (q - 1) / q and never rises.
+    growing = r.sweeps >= 2 && s.change >= previous_change ? growing + 1 : 0;
+    if (growing > 50) {
+      r.diverged = true;
+      break;
+    }
     if (r.sweeps >= 2 && previous > 0) {
       const double q = c / previous;
-      if (q < 1) {
-        growing = 0;
-        if (c * q / (1 - q) < tolerance) {
-          r.converged = true;
-          break;
-        }
-      } else if (++growing > 50) {
-        r.diverged = true;
+      if (q < 1 && c * q / (1 - q) < tolerance) {
+        r.converged = true;
         break;
       }
     }
     previous = c;
+    previous_change = s.change;
   }
   return r;
 }

@@ -27,7 +27,10 @@ struct PropagationResult {
   int sweeps = 0;
   double last_change = 0;  ///< relative change of the last sweep
   bool converged = false;
-  bool diverged = false;   ///< the change grew for many sweeps (row sums above 1)
+  /// The change (not relative: that falls even when B grows) did not fall for 50
+  /// sweeps, or a value overflowed: rho K's spectral radius is 1 or more (row sums
+  /// above 1).
+  bool diverged = false;
 };
 
 /// How a cluster receiver hands what it gathers to its members:

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -15,7 +16,13 @@
 namespace hrad {
 namespace {
 
+// The public Cornell boxes are not in the repository: they live in the shared scene
+// folder beside the checkout. Without it their tests are skipped, not failed.
 const std::string kScenes = HRAD_SOURCE_DIR "/../shared/scenes";
+#define SKIP_UNLESS_SHARED_SCENE(path)                                                   \
+  if (!std::filesystem::is_regular_file(path))                                           \
+  GTEST_SKIP() << (path) << " is absent: the public Cornell boxes come from the shared " \
+                            "scene folder ../shared/scenes beside the checkout"
 const std::string kData = HRAD_SOURCE_DIR "/tests/data/obj";
 constexpr double kPi = std::numbers::pi;
 
@@ -130,6 +137,7 @@ const Material* material_named(const Scene& s, const std::string& name) {
 
 TEST(ObjCornell, McGuireOriginalKeepsQuadsAndTriangulatesTheBentWall) {
   const std::string path = kScenes + "/cornell-mcguire/CornellBox-Original.obj";
+  SKIP_UNLESS_SHARED_SCENE(path);
   const Scene s = read_obj(path);
   EXPECT_EQ(s.name, "CornellBox-Original");
   EXPECT_EQ(s.source, path);
@@ -164,6 +172,7 @@ TEST(ObjCornell, McGuireOriginalKeepsQuadsAndTriangulatesTheBentWall) {
 
 TEST(ObjCornell, McGuireEmptyLoads) {
   const std::string path = kScenes + "/cornell-mcguire/CornellBox-Empty-RG.obj";
+  SKIP_UNLESS_SHARED_SCENE(path);
   const Scene s = read_obj(path);
   EXPECT_EQ(s.polygon_count(), 7u);  // 6 quads, the left wall split in two
   EXPECT_EQ(s.emitter_count(), 1u);
@@ -172,6 +181,7 @@ TEST(ObjCornell, McGuireEmptyLoads) {
 
 TEST(ObjCornell, MeasuredBoxIsInMillimetres) {
   const std::string path = kScenes + "/cornell-measured/cornell_box_original_mm.obj";
+  SKIP_UNLESS_SHARED_SCENE(path);
   const Scene s = read_obj(path);
   EXPECT_EQ(s.name, "cornell_box_original_mm");
   // 31 faces: 7 quads (the red wall non-planar, split) and 24 box triangles.

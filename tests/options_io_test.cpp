@@ -37,13 +37,19 @@ SolverOptions non_default_options() {
   o.visibility_rays = 0;
   o.pin = "scatter";
   o.placement = "interleave";
+  o.pool_order = "subtree";
   o.seed = 18446744073709551615ull;  // largest uint64: must survive JSON
   o.gather_tolerance = 1e-9;
   o.max_gather_sweeps = 12;
+  o.cluster_model = "isotropic";
   o.cluster_receiver = "cosine";
+  o.row_sums = "normalize";
+  o.row_sum_rays = 5;
   o.locks_pool = 64;
   o.trace = "trace.bin";
   o.image_width = 320;
+  o.effects = "all";
+  o.shaft_culling = "on";
   o.max_memory_gb = 2.5;
   o.camera = "eye=1,2,3:look=0,0.5,-1e-3:fov=30";
   o.sides = "one";
@@ -54,6 +60,8 @@ SolverOptions non_default_options() {
   return o;
 }
 
+// Every field of SolverOptions, compared exactly (doubles too: the JSON text must keep
+// them to the last bit).
 void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.camera, b.camera);
   EXPECT_EQ(a.sides, b.sides);
@@ -68,13 +76,19 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.visibility_rays, b.visibility_rays);
   EXPECT_EQ(a.pin, b.pin);
   EXPECT_EQ(a.placement, b.placement);
+  EXPECT_EQ(a.pool_order, b.pool_order);
   EXPECT_EQ(a.seed, b.seed);
   EXPECT_EQ(a.gather_tolerance, b.gather_tolerance);
   EXPECT_EQ(a.max_gather_sweeps, b.max_gather_sweeps);
+  EXPECT_EQ(a.cluster_model, b.cluster_model);
   EXPECT_EQ(a.cluster_receiver, b.cluster_receiver);
+  EXPECT_EQ(a.row_sums, b.row_sums);
+  EXPECT_EQ(a.row_sum_rays, b.row_sum_rays);
   EXPECT_EQ(a.locks_pool, b.locks_pool);
   EXPECT_EQ(a.trace, b.trace);
   EXPECT_EQ(a.image_width, b.image_width);
+  EXPECT_EQ(a.effects, b.effects);
+  EXPECT_EQ(a.shaft_culling, b.shaft_culling);
   EXPECT_EQ(a.max_memory_gb, b.max_memory_gb);
   EXPECT_EQ(a.shading, b.shading);
   EXPECT_EQ(a.exposure, b.exposure);
@@ -102,6 +116,24 @@ TEST(OptionsIo, JsonRoundTripThroughText) {
   SolverOptions out;
   apply_options_json(out, parsed, "roundtrip.json");
   expect_equal(in, out);
+  EXPECT_EQ(options_to_json(out), options_to_json(in));
+}
+
+// The round trip above proves something about a key only if its value there is not the
+// default: non_default_options changes every key of the table (29, one per field of
+// SolverOptions, TableHasEveryFieldOnceAndJsonHasEveryKey), and --set restores each.
+TEST(OptionsIo, RoundTripValuesDifferFromEveryDefault) {
+  const SolverOptions d, o = non_default_options();
+  for (const OptionInfo& i : option_table()) {
+    const std::string value = option_value_string(o, i.name);
+    EXPECT_NE(value, option_value_string(d, i.name)) << i.name << " keeps its default";
+  }
+  SolverOptions set;
+  const nlohmann::json j = options_to_json(o);
+  for (const auto& [key, value] : j.items())
+    apply_option_assignment(set, key + "=" + (value.is_string() ? value.get<std::string>()
+                                                                : value.dump()));
+  expect_equal(o, set);
 }
 
 TEST(OptionsIo, PartialJsonLeavesOtherKeysAlone) {

@@ -8,6 +8,10 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace hrad {
 namespace {
@@ -95,6 +99,138 @@ TEST(Oracle, DarkReceiversAreJudgedAgainstTheirOwnLight) {
     r.B = Rgb::Constant(0.1);
     EXPECT_EQ(oracle->judge(big, one).decision, Decision::Refine);
   }
+}
+
+// Where the dark-receiver scaling's branches meet: the clamp's ends are reached
+// exactly (E_r = the mean: factor 1; E_r = kDarkThresholdFloor x the mean: the floor);
+// a channel the receiver does not reflect (rho 0) says nothing about its light however
+// bright it is; light lost since the last solution (B below E) counts as gathered, at
+// irradiance 0, so the floor; and a mean that is not positive (0, negative, NaN) turns
+// the scaling off. Exact arithmetic on dyadic values: tolerance 0 (EXPECT_EQ).
+TEST(Oracle, DarkScalingEdgeCases) {
+  Element r, s;
+  set(r, ElementKind::Surface, 1.0, 0.5, 0);
+  set(s, ElementKind::Surface, 1.0, 0.5, 3.0);
+  const LinkEstimate l{&r, &s, 0.1, 1, 0};
+  const OracleThresholds t{2.0, 4.0};
+  r.B = Rgb::Constant(2.0);  // E_r = 4: the mean itself
+  EXPECT_EQ(receiver_threshold(l, t), 2.0);
+  r.B = Rgb::Constant(0.5);  // E_r = 1: a quarter of the mean, the floor exactly
+  EXPECT_EQ(receiver_threshold(l, t), 2.0 * kDarkThresholdFloor);
+  r.B = Rgb::Constant(0.75);  // E_r = 1.5: 3/8 of the mean, inside the clamp
+  EXPECT_EQ(receiver_threshold(l, t), 2.0 * 0.375);
+  // Green is bright (B 3) but not reflected: red and blue's E_r 0.2 decide, the floor.
+  r.rho = Rgb(0.5, 0.0, 0.5);
+  r.B = Rgb(0.1, 3.0, 0.1);
+  EXPECT_EQ(receiver_threshold(l, t), 2.0 * kDarkThresholdFloor);
+  // Only the unreflected channel changed: gathered, but at no known irradiance.
+  r.B = Rgb(0.0, 3.0, 0.0);
+  EXPECT_EQ(receiver_threshold(l, t), 2.0 * kDarkThresholdFloor);
+  r.rho = Rgb::Constant(0.5);
+  // An emitter whose B fell below its E has gathered (lost) light: irradiance 0.
+  r.emission = Rgb::Constant(1.0);
+  r.B = Rgb::Constant(0.5);
+  EXPECT_EQ(receiver_threshold(l, t), 2.0 * kDarkThresholdFloor);
+  r.emission = Rgb::Zero();
+  r.B = Rgb::Constant(0.1);
+  for (const double mean : {0.0, -4.0, std::nan("")})
+    EXPECT_EQ(receiver_threshold(l, OracleThresholds{2.0, mean}), 2.0) << mean;
+}
+
+// `bf`: error = max over channels of rho_r B_s, times A_r and the unoccluded F: here
+// rho_r (0.5, 0.25, 1) x B_s (2, 8, 1) = (1, 2, 1), so 2 (not max rho x max B = 8),
+// times A_r 2 (the source's area does not count) times F 0.125 = 0.5. Between surfaces
+// neither the visibility (F is unoccluded, so shadow boundaries are still refined) nor
+// the F spread changes it. Accepted iff the error is below the threshold, strictly. All
+// values dyadic: exact, tolerance 0 (EXPECT_EQ).
+TEST(Oracle, BfErrorIsTheReflectedPowerOfTheUnoccludedFormFactor) {
+  Element r, s;
+  set(r, ElementKind::Surface, 2.0, 0, 0);
+  set(s, ElementKind::Surface, 64.0, 0, 0);
+  r.rho = Rgb(0.5, 0.25, 1.0);
+  s.B = Rgb(2.0, 8.0, 1.0);
+  EXPECT_EQ(reflected_power_scale(r, s), 4.0);
+  const auto bf = make_oracle("bf");
+  for (const double v : {1.0, 0.5, 0.0})
+    for (const double spread : {0.0, 0.1}) {
+      const LinkEstimate l{&r, &s, 0.125, v, spread};
+      EXPECT_EQ(occlusion_weight(l), 1.0);
+      EXPECT_EQ(bf->judge(l, OracleThresholds{1.0}).error, 0.5) << "V " << v;
+    }
+  const LinkEstimate l{&r, &s, 0.125, 1, 0};
+  EXPECT_EQ(bf->judge(l, OracleThresholds{0.5}).decision, Decision::Refine);  // not below
+  EXPECT_EQ(bf->judge(l, OracleThresholds{std::nextafter(0.5, 1.0)}).decision, Decision::Accept);
+  // A cluster end with V < 1 weighs kOccludedClusterWeight (8): 4 against 4 + 1 ulp.
+  Element c;
+  set(c, ElementKind::Cluster, 2.0, 0, 0);
+  c.rho = r.rho;
+  const LinkEstimate occluded{&c, &s, 0.125, 0.5, 0};
+  EXPECT_EQ(occlusion_weight(occluded), kOccludedClusterWeight);
+  EXPECT_EQ(bf->judge(occluded, OracleThresholds{1.0}).error, 4.0);
+  EXPECT_EQ(bf->judge(occluded, OracleThresholds{4.0}).decision, Decision::Refine);
+  EXPECT_EQ(bf->judge(occluded, OracleThresholds{std::nextafter(4.0, 5.0)}).decision,
+            Decision::Accept);
+  // Nothing reflected (a black receiver, or a dark source): error 0, always accepted.
+  r.rho = Rgb::Zero();
+  EXPECT_EQ(bf->judge(l, OracleThresholds{1e-300}).error, 0.0);
+  EXPECT_EQ(bf->judge(l, OracleThresholds{1e-300}).decision, Decision::Accept);
+}
+
+// `error`: error = rho_r B_s A_r (4 here) x uncertainty. Between surfaces the
+// uncertainty is the F spread (0.0625), plus F (0.125) only while the visibility is
+// partial (0 < V < 1): fully visible and fully hidden pairs carry no shadow boundary.
+// With a cluster end it is F whatever the spread (clusters have none), weighted by
+// kOccludedClusterWeight when V < 1, V = 0 included. Dyadic values: exact, tolerance 0.
+TEST(Oracle, ErrorOracleWeighsSpreadAndPartialVisibility) {
+  Element rs, ss, rc, sc;
+  set(rs, ElementKind::Surface, 2.0, 0.5, 0);
+  set(ss, ElementKind::Surface, 1.0, 0.5, 4.0);
+  set(rc, ElementKind::Cluster, 2.0, 0.5, 0);
+  set(sc, ElementKind::Cluster, 1.0, 0.5, 4.0);
+  const auto oracle = make_oracle("error");
+  const OracleThresholds t{1.0};
+  const double f = 0.125, spread = 0.0625;
+  const auto err = [&](const Element& r, const Element& s, double v) {
+    return oracle->judge(LinkEstimate{&r, &s, f, v, spread}, t).error;
+  };
+  EXPECT_EQ(err(rs, ss, 1.0), 4 * spread);        // 0.25
+  EXPECT_EQ(err(rs, ss, 0.0), 4 * spread);        // hidden: no boundary either
+  EXPECT_EQ(err(rs, ss, 0.5), 4 * (spread + f));  // 0.75
+  EXPECT_EQ(err(rs, ss, 0.96875), 4 * (spread + f));  // just below 1 is partial
+  EXPECT_EQ(err(rs, ss, 0.03125), 4 * (spread + f));  // just above 0 too
+  for (const auto& [r, s] : {std::pair{&rc, &ss}, std::pair{&rs, &sc}, std::pair{&rc, &sc}}) {
+    EXPECT_EQ(err(*r, *s, 1.0), 4 * f);  // 0.5: the spread is not used
+    EXPECT_EQ(err(*r, *s, 0.5), 4 * f * kOccludedClusterWeight);
+    EXPECT_EQ(err(*r, *s, 0.0), 4 * f * kOccludedClusterWeight);
+  }
+  // Strictly below the threshold: a surface pair fully visible at error 0.25.
+  const LinkEstimate l{&rs, &ss, f, 1, spread};
+  EXPECT_EQ(oracle->judge(l, OracleThresholds{0.25}).decision, Decision::Refine);
+  EXPECT_EQ(oracle->judge(l, OracleThresholds{std::nextafter(0.25, 1.0)}).decision,
+            Decision::Accept);
+  // A fully visible surface pair with no spread has nothing uncertain: error 0.
+  EXPECT_EQ(oracle->judge(LinkEstimate{&rs, &ss, f, 1, 0}, t).error, 0.0);
+}
+
+// The registry: each oracle by its name, with its own name and spread needs; the names
+// listed in order; an unknown name is an error that lists the known ones.
+TEST(Oracle, RegistryMakesEachOracleByName) {
+  EXPECT_EQ(oracle_names(), (std::vector<std::string>{"bf", "error"}));
+  const auto bf = make_oracle("bf");
+  const auto error = make_oracle("error");
+  ASSERT_TRUE(bf && error);
+  EXPECT_STREQ(bf->name(), "bf");
+  EXPECT_STREQ(error->name(), "error");
+  EXPECT_FALSE(bf->needs_spread());
+  EXPECT_TRUE(error->needs_spread());
+  EXPECT_NE(make_oracle("bf").get(), bf.get());  // a new instance per call
+  try {
+    (void)make_oracle("BF");  // names are case-sensitive
+    ADD_FAILURE() << "no exception for an unknown oracle";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "unknown oracle 'BF' (known: bf, error)");
+  }
+  EXPECT_THROW((void)make_oracle(""), std::invalid_argument);
 }
 
 // Fibonacci-sphere mean of a cluster's projected area over all directions.

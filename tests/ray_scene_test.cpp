@@ -4,9 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
-#include <iostream>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -373,41 +371,8 @@ TEST(RayScene, ConcurrentQueriesGiveTheSerialAnswers) {
   EXPECT_EQ(rs.rays_cast(), serial_rays + kThreads * 2 * queries.size());
 }
 
-TEST(RayScene, ThroughputOfOcclusionRays) {
-  // Not a benchmark with a verdict: reports one thread's occlusion rays per second on
-  // 10k random triangles (size ~0.05 in the unit cube), for long segments (across the
-  // cube, nearly all blocked) and short ones (length <= 0.2, mostly free), and checks
-  // the order of magnitude only.
-  const Soup s = random_triangles(10000, 1);
-  const auto t0 = std::chrono::steady_clock::now();
-  const RayScene rs = s.build();
-  const double build_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  std::cout << "[ RayScene ] 10k triangles: build " << build_ms << " ms\n";
-  std::mt19937 rng(2);
-  std::uniform_real_distribution<double> uni(0.0, 1.0), step(-0.1, 0.1);
-  for (const bool short_segments : {false, true}) {
-    std::vector<Query> queries(200000);
-    for (Query& q : queries) {
-      q.from = Vec3(uni(rng), uni(rng), uni(rng));
-      q.to = short_segments ? Vec3(q.from + Vec3(step(rng), step(rng), step(rng)))
-                            : Vec3(uni(rng), uni(rng), uni(rng));
-    }
-    std::size_t blocked = 0;
-    const auto t1 = std::chrono::steady_clock::now();
-    for (const Query& q : queries) blocked += rs.occluded(q.from, q.to) ? 1 : 0;
-    const double secs =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-    const double rate = static_cast<double>(queries.size()) / secs;
-    std::cout << "[ RayScene ] " << (short_segments ? "short" : "long ") << " segments: "
-              << rate / 1e6 << " M occlusion rays/s (one thread), "
-              << 100.0 * static_cast<double>(blocked) / static_cast<double>(queries.size())
-              << "% blocked\n";
-    RecordProperty(short_segments ? "short_rays_per_second" : "long_rays_per_second",
-                   static_cast<int>(rate));
-    EXPECT_GT(rate, 1e5);
-  }
-}
+// One thread's occlusion-ray throughput is measured in experiments/micro/scene_bench.cpp
+// (BM_RayOcclusion), not bounded here.
 
 }  // namespace
 }  // namespace hrad

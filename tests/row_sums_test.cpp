@@ -42,5 +42,104 @@ TEST(RowSums, WithinBandIsTheOpenAreaShareNearOne) {
   EXPECT_NEAR(st.area_mean, (1.0 + 2 * 1.1 + 0.98) / 4, 1e-6);
 }
 
+// Four leaves with row sums 1.0, 1.1, 0.98 and 0 (no links), by mode: keep leaves every
+// gather_scale at 1; clamp scales only the leaf above 1, to exactly 1; normalize scales
+// each leaf with links to its own target 1 - escape (the escapes set here by hand, so
+// no ray is cast), and leaves the leaf with nothing to scale alone. The statistics are
+// of the uncorrected sums in every mode. Row sums come from float form factors and
+// gather_scale is a float: compared to 1e-6 relative.
+TEST(RowSums, ModesScaleTheLeavesAsDocumented) {
+  SceneBuilder b("four", "test");
+  const auto m = b.add_material(test::material(0.5, 0), {"t", 0});
+  using Poly = std::vector<Vec3>;
+  b.add_polygon(Poly{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, m, {"t", 1});
+  b.add_polygon(Poly{{0, 0, 1}, {0, 2, 1}, {1, 2, 1}, {1, 0, 1}}, m, {"t", 2});
+  b.add_polygon(Poly{{3, 0, 0}, {3, 1, 0}, {3, 1, 1}, {3, 0, 1}}, m, {"t", 3});
+  b.add_polygon(Poly{{5, 0, 0}, {6, 0, 0}, {6, 1, 0}, {5, 1, 0}}, m, {"t", 4});
+  const Scene scene = b.finish("t");
+  const RayScene rays = RayScene::from_scene(scene);
+  const double sums[4] = {1.0f, 1.1f, 0.98f, 0};
+  const float escape[4] = {0.0f, 0.25f, 0.5f, 0.125f};
+
+  struct Run {
+    RowSumStats st;
+    float scale[4];
+  };
+  const auto run = [&](RowSumMode mode) {
+    Hierarchy h(scene, 1);
+    std::vector<Element*> els = h.elements();
+    std::vector<Element*> face(4, nullptr);
+    for (Element* e : els)
+      if (!e->is_cluster()) face[e->face] = e;
+    for (int i = 0; i < 3; ++i) {
+      const Link l{face[static_cast<std::size_t>((i + 1) % 3)], static_cast<float>(sums[i]), 1.0f};
+      h.store_links(*face[static_cast<std::size_t>(i)], {&l, 1}, 0);
+    }
+    for (int i = 0; i < 4; ++i) face[static_cast<std::size_t>(i)]->escape = escape[i];
+    Run r;
+    r.st = apply_row_sums(els, mode, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
+    for (int i = 0; i < 4; ++i) r.scale[i] = face[static_cast<std::size_t>(i)]->gather_scale;
+    return r;
+  };
+
+  const Run keep = run(RowSumMode::Keep);
+  for (const float s : keep.scale) EXPECT_EQ(s, 1.0f);
+  EXPECT_EQ(keep.st.corrected, 0u);
+
+  const Run clamp = run(RowSumMode::Clamp);
+  EXPECT_EQ(clamp.scale[0], 1.0f);  // exactly 1: not above
+  EXPECT_NEAR(clamp.scale[1] * sums[1], 1.0, 1e-6);
+  EXPECT_EQ(clamp.scale[2], 1.0f);  // below 1: never raised
+  EXPECT_EQ(clamp.scale[3], 1.0f);
+  EXPECT_EQ(clamp.st.corrected, 1u);
+
+  const Run norm = run(RowSumMode::Normalize);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(norm.scale[i] * sums[i], 1.0 - escape[i], 1e-6 * (1.0 - escape[i])) << i;
+  EXPECT_EQ(norm.scale[0], 1.0f);  // its sum is its target already
+  EXPECT_EQ(norm.scale[3], 1.0f);  // row sum 0: nothing to scale
+  EXPECT_EQ(norm.st.corrected, 2u);
+  EXPECT_EQ(norm.st.rays_cast, 0u);  // every escape was known
+
+  for (const Run* r : {&keep, &clamp, &norm}) {
+    EXPECT_EQ(r->st.min, 0.0);
+    EXPECT_NEAR(r->st.max, 1.1, 1e-6);
+    EXPECT_NEAR(r->st.area_mean, (1.0 + 2 * 1.1 + 0.98 + 0) / 5, 1e-6);
+    EXPECT_EQ(r->st.open_capped, 0u);
+  }
+}
+
+// normalize estimates a leaf's escape with `rays` rays when it is not known yet (once:
+// it is kept in the element), and scales the leaf to 1 - that estimate. The lone
+// square sees nothing, so every ray escapes: escape 1, target 0. Exact: tolerance 0.
+TEST(RowSums, NormalizeCastsEscapeRaysOnlyForUnknownEscapes) {
+  SceneBuilder b("two", "test");
+  const auto m = b.add_material(test::material(0.5, 0), {"t", 0});
+  using Poly = std::vector<Vec3>;
+  b.add_polygon(Poly{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, m, {"t", 1});
+  b.add_polygon(Poly{{0, 0, -1}, {0, 1, -1}, {1, 1, -1}, {1, 0, -1}}, m, {"t", 2});
+  const Scene scene = b.finish("t");
+  const RayScene rays = RayScene::from_scene(scene);
+  Hierarchy h(scene, 1);
+  std::vector<Element*> els = h.elements();
+  std::vector<Element*> face(2, nullptr);
+  for (Element* e : els)
+    if (!e->is_cluster()) face[e->face] = e;
+  // Back to back: each faces away from the other, so each leaf's rays all escape.
+  const Link l0{face[1], 0.5f, 1.0f}, l1{face[0], 0.5f, 1.0f};
+  h.store_links(*face[0], {&l0, 1}, 0);
+  h.store_links(*face[1], {&l1, 1}, 0);
+  RowSumStats st =
+      apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
+  EXPECT_EQ(st.rays_cast, 32u);
+  for (const Element* e : face) {
+    EXPECT_EQ(e->escape, 1.0f);
+    EXPECT_EQ(e->gather_scale, 0.0f);
+  }
+  st = apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
+  EXPECT_EQ(st.rays_cast, 0u);  // known now
+  EXPECT_EQ(st.corrected, 2u);
+}
+
 }  // namespace
 }  // namespace hrad

@@ -1,0 +1,88 @@
+// Microbenchmarks of scene-side costs that unit tests used to bound by the clock
+// (moved here so that a busy machine cannot fail a test):
+//  RayOcclusion:  one thread's occlusion rays per second (items/s) on 10k random
+//                 triangles (size ~0.05 in the unit cube), for long segments (across
+//                 the cube, nearly all blocked; Arg 0) and short ones (length <= 0.2,
+//                 mostly free; Arg 1). Was tests/ray_scene_test.cpp's
+//                 ThroughputOfOcclusionRays (bound: 1e5 rays/s).
+//  RaySceneBuild: building the Embree scene of those 10k triangles.
+//  CabinGeneration: make_builtin("builtin:cabin"); was tests/builtin_scenes_test.cpp's
+//                 CabinGeneratesQuickly (bound: 10 s; well under 1 s in Release).
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "core/builtin_scenes.h"
+#include "core/ray_scene.h"
+
+namespace {
+
+using namespace hrad;
+
+struct Soup {
+  std::vector<Vec3> vertices;
+  std::vector<std::uint32_t> indices;
+  std::vector<PolygonRange> polys;
+};
+
+Soup random_triangles(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0), off(-0.05, 0.05);
+  Soup s;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 c(uni(rng), uni(rng), uni(rng));
+    s.polys.push_back({static_cast<std::uint32_t>(s.indices.size()), 3});
+    for (int k = 0; k < 3; ++k) {
+      s.indices.push_back(static_cast<std::uint32_t>(s.vertices.size()));
+      s.vertices.push_back(c + Vec3(off(rng), off(rng), off(rng)));
+    }
+  }
+  return s;
+}
+
+const Soup& soup() {
+  static const Soup s = random_triangles(10000, 1);
+  return s;
+}
+
+void BM_RaySceneBuild(benchmark::State& state) {
+  for (auto _ : state) {
+    const RayScene rs(soup().vertices, soup().indices, soup().polys);
+    benchmark::DoNotOptimize(&rs);
+  }
+}
+BENCHMARK(BM_RaySceneBuild)->Unit(benchmark::kMillisecond);
+
+void BM_RayOcclusion(benchmark::State& state) {
+  const bool short_segments = state.range(0) != 0;
+  const RayScene rs(soup().vertices, soup().indices, soup().polys);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> uni(0.0, 1.0), step(-0.1, 0.1);
+  std::vector<std::pair<Vec3, Vec3>> queries(200000);
+  for (auto& [from, to] : queries) {
+    from = Vec3(uni(rng), uni(rng), uni(rng));
+    to = short_segments ? Vec3(from + Vec3(step(rng), step(rng), step(rng)))
+                        : Vec3(uni(rng), uni(rng), uni(rng));
+  }
+  std::size_t blocked = 0;
+  for (auto _ : state)
+    for (const auto& [from, to] : queries) blocked += rs.occluded(from, to) ? 1 : 0;
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(queries.size()));
+  state.counters["blocked_share"] =
+      static_cast<double>(blocked) /
+      (static_cast<double>(state.iterations()) * static_cast<double>(queries.size()));
+}
+BENCHMARK(BM_RayOcclusion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void BM_CabinGeneration(benchmark::State& state) {
+  for (auto _ : state) {
+    const Scene s = make_builtin("builtin:cabin");
+    benchmark::DoNotOptimize(s.polygon_count());
+  }
+}
+BENCHMARK(BM_CabinGeneration)->Unit(benchmark::kMillisecond);
+
+}  // namespace
