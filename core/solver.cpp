@@ -162,12 +162,14 @@ RunStats Solver::run() {
                                    : "scene has no emitter: the solution is zero; nothing was "
                                      "refined or propagated");
   // B = E + rho K B has no finite solution when rho K can keep all light (rho = 1 in a
-  // closed scene): the sweeps then never converge and stop at the cap.
+  // closed scene): the sweeps then never converge; the propagation reports divergence
+  // when the change stops falling (core/propagation.h), or stops at the cap.
   for (const Material& mat : m.scene.materials)
     if (solve && m.effects.interreflection.on && mat.reflectance.maxCoeff() >= 1) {
       stats.warnings.push_back(fmt::format(
           "material '{}' reflects all light (reflectance 1): a closed scene with such surfaces "
-          "has no finite solution, and the propagation stops only at max_gather_sweeps ({})",
+          "has no finite solution: the propagation stops when its change stops falling, or at "
+          "max_gather_sweeps ({})",
           mat.name, o.max_gather_sweeps));
       break;
     }
