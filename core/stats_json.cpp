@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/camera_spec.h"
+#include "core/iteration_fields.h"
 
 #include <cmath>
 #include <ostream>
@@ -26,13 +27,6 @@ nlohmann::json json_map(const std::map<std::string, V>& m) {
 
 nlohmann::json vec3(const Vec3& v) { return {number(v.x()), number(v.y()), number(v.z())}; }
 
-// Bytes of one structure per item; NaN (written as null) when there are no items.
-double per(const std::map<std::string, std::uint64_t>& bytes, const char* key, std::uint64_t n) {
-  const auto it = bytes.find(key);
-  if (n == 0 || it == bytes.end()) return std::nan("");
-  return static_cast<double>(it->second) / static_cast<double>(n);
-}
-
 nlohmann::json refiners_json(const std::vector<RefinerStats>& refiners) {
   nlohmann::json out = nlohmann::json::array();
   for (const RefinerStats& r : refiners)
@@ -55,31 +49,14 @@ nlohmann::json refiners_json(const std::vector<RefinerStats>& refiners) {
 
 nlohmann::json effect_json(const Effect& e) { return {{"on", e.on}, {"reason", e.reason}}; }
 
+nlohmann::json field_json(const FieldValue& v) {
+  return v.integer ? nlohmann::json(v.count) : number(v.real);
+}
+
 nlohmann::json iteration_json(const IterationStats& it) {
-  return {
-      {"iteration", it.iteration},
-      {"refine_wall_s", number(it.refine_wall_s)},
-      {"refine_cpu_s", number(it.refine_cpu_s)},
-      {"refine_thread_cpu_s", number(it.refine_thread_cpu_s)},
-      {"task_cpu_ns", number(it.task_cpu_ns)},
-      {"propagate_wall_s", number(it.propagate_wall_s)},
-      {"links_created", it.links_created},
-      {"links", it.links},
-      {"elements", it.elements},
+  nlohmann::json j = {
       {"bytes", json_map(it.bytes)},
-      {"peak_rss_bytes", it.peak_rss_bytes},
-      {"tasks", it.tasks},
-      {"scheduler_ops", it.scheduler_ops},
       {"lock_wait_s", json_map(it.lock_wait_s)},
-      {"idle_s", number(it.idle_s)},
-      {"rays_cast", it.rays_cast},
-      {"rays_skipped", it.rays_skipped},
-      {"gather_sweeps", it.gather_sweeps},
-      {"max_change", number(it.max_change)},
-      {"peak_parallelism", it.peak_parallelism},
-      {"load_s", it.load_s},
-      {"link_compact_s", it.link_compact_s},
-      {"steals", it.steals},
       {"refiners", refiners_json(it.refiners)},
       {"bytes_per_node", it.bytes_per_node},
       {"element_bytes_per_node", it.element_bytes_per_node},
@@ -89,17 +66,10 @@ nlohmann::json iteration_json(const IterationStats& it) {
                                                {"agree", it.placement_check.agree},
                                                {"unknown", it.placement_check.unknown}}
                               : nlohmann::json(nullptr)},
-      {"local_access_ratio", number(it.local_access_ratio)},
-      {"bytes_per_link", number(per(it.bytes, "links", it.links))},
-      {"bytes_per_element", number(per(it.bytes, "elements", it.elements))},
-      {"row_sums",
-       {{"min", number(it.row_sum_min)},
-        {"max", number(it.row_sum_max)},
-        {"area_mean", number(it.row_sum_mean)},
-        {"within_3pct", number(it.row_sum_within_band)},
-        {"corrected", it.row_sum_corrected}}},
-      {"open", {{"rays", it.open_rays}, {"area_fraction", number(it.open_area_fraction)}}},
   };
+  for (const IterationField& f : iteration_fields())
+    if (f.path) j[nlohmann::json::json_pointer(std::string("/") + f.path)] = field_json(f.get(it));
+  return j;
 }
 
 }  // namespace

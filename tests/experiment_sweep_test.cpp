@@ -1,10 +1,16 @@
 // Sweep expansion (order, counts, options of each point) and the flat rows of
 // runs.csv / iterations.csv made from RunStats.
+#include "core/iteration_fields.h"
 #include "core/options_io.h"
+#include "core/stats_json.h"
 #include "experiments/harness/run_rows.h"
 #include "experiments/harness/sweep.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <set>
+#include <cmath>
+#include <algorithm>
 
 namespace hrad::experiment {
 namespace {
@@ -113,6 +119,56 @@ TEST(ExperimentRows, ColumnsAndValues) {
   EXPECT_EQ(r.iterations[1][column_index(ic, "refine_cpu_s")], "4");
   EXPECT_EQ(r.iterations[0][column_index(ic, "bytes_links")], "3000");
   EXPECT_EQ(r.iterations[0][column_index(ic, "lock_wait_total_s")], "0.875");
+}
+
+// stats.json and iterations.csv are written from one table (core/iteration_fields.h):
+// every scalar of an iteration in stats.json is a CSV column with the same value, and
+// every CSV figure column is in the table.
+TEST(ExperimentRows, EveryIterationScalarOfStatsJsonIsACsvColumn) {
+  RunStats s = two_iterations();
+  IterationStats& it = s.iterations[1];
+  it.load_s = 0.0625;
+  it.link_compact_s = 0.03125;
+  it.row_sum_min = 0.5;
+  it.row_sum_max = 1.25;
+  it.row_sum_mean = 0.96875;
+  it.row_sum_within_band = 0.75;
+  it.row_sum_corrected = 9;
+  it.open_rays = 11;
+  it.open_area_fraction = 0.875;
+  it.local_access_ratio = std::nan("");  // null in JSON, empty in CSV
+  const nlohmann::json j = stats_to_json(s)["iterations"][1];
+  const std::vector<SweepPoint> p = expand_sweep(config());
+  const RunRows r = make_run_rows("s", p[0], 0, s, "2026-01-01T00:00:00+0000");
+  const auto& ic = iteration_columns();
+  const Row& row = r.iterations[1];
+  // The parts of an iteration that are not scalars, written by stats_json.cpp alone.
+  const std::set<std::string> whole = {"bytes", "lock_wait_s", "refiners", "bytes_per_node",
+                                       "element_bytes_per_node", "link_bytes_per_node",
+                                       "placement_check"};
+  int scalars = 0;
+  const nlohmann::json flat = j.flatten();
+  for (const auto& item : flat.items()) {
+    const std::string path = item.key().substr(1);  // "/row_sums/min" -> "row_sums/min"
+    if (whole.count(path.substr(0, path.find('/')))) continue;
+    std::string column = path;
+    std::replace(column.begin(), column.end(), '/', '_');
+    const std::size_t at = column_index(ic, column);  // throws if there is none
+    const nlohmann::json& v = item.value();
+    const std::string expected =
+        v.is_null() ? "" : v.is_number_float() ? fmt::format("{}", v.get<double>()) : v.dump();
+    EXPECT_EQ(row[at], expected) << column;
+    ++scalars;
+  }
+  // ... and every field of the table with a path is one of them.
+  EXPECT_EQ(scalars, std::count_if(iteration_fields().begin(), iteration_fields().end(),
+                                   [](const IterationField& f) { return f.path != nullptr; }));
+  EXPECT_EQ(row[column_index(ic, "row_sums_area_mean")], "0.96875");
+  EXPECT_EQ(row[column_index(ic, "load_s")], "0.0625");
+  EXPECT_EQ(row[column_index(ic, "open_rays")], "11");
+  EXPECT_EQ(row[column_index(ic, "local_access_ratio")], "");
+  // Identity, options and the table: nothing else in the header.
+  EXPECT_EQ(ic.size(), 5 + option_table().size() + iteration_fields().size());
 }
 
 TEST(ExperimentRows, HeaderStartsWithIdentityThenOptions) {

@@ -1,5 +1,6 @@
 #include "experiments/harness/run_rows.h"
 
+#include "core/iteration_fields.h"
 #include "core/options_io.h"
 
 #include <fmt/format.h>
@@ -60,35 +61,10 @@ class Cells {
   Row values_;
 };
 
+std::string num(const FieldValue& v) { return v.integer ? num(v.count) : num(v.real); }
+
 void iteration_figures(Cells& c, const IterationStats& it) {
-  c.add("iteration", num(it.iteration));
-  c.add("refine_wall_s", num(it.refine_wall_s));
-  c.add("refine_cpu_s", num(it.refine_cpu_s));
-  c.add("refine_thread_cpu_s", num(it.refine_thread_cpu_s));
-  c.add("task_cpu_ns", num(it.task_cpu_ns));
-  c.add("propagate_wall_s", num(it.propagate_wall_s));
-  c.add("links_created", num(it.links_created));
-  c.add("links", num(it.links));
-  c.add("elements", num(it.elements));
-  c.add("bytes_elements", num(get(it.bytes, "elements")));
-  c.add("bytes_links", num(get(it.bytes, "links")));
-  c.add("bytes_total", num(sum(it.bytes)));
-  c.add("peak_rss_bytes", num(it.peak_rss_bytes));
-  c.add("tasks", num(it.tasks));
-  c.add("scheduler_ops", num(it.scheduler_ops));
-  c.add("steals", num(it.steals));
-  c.add("idle_s", num(it.idle_s));
-  c.add("lock_wait_scheduler_s", num(get(it.lock_wait_s, "scheduler")));
-  c.add("lock_wait_element_s", num(get(it.lock_wait_s, "element")));
-  c.add("lock_wait_link_s", num(get(it.lock_wait_s, "link")));
-  c.add("lock_wait_total_s", num(sum(it.lock_wait_s)));
-  c.add("peak_parallelism", num(it.peak_parallelism));
-  c.add("local_access_ratio", num(it.local_access_ratio));
-  c.add("rays_cast", num(it.rays_cast));
-  c.add("rays_skipped", num(it.rays_skipped));
-  c.add("gather_sweeps", num(it.gather_sweeps));
-  c.add("max_change", num(it.max_change));
-  c.add("open_area_fraction", num(it.open_area_fraction));
+  for (const IterationField& f : iteration_fields()) c.add(f.column, num(f.get(it)));
 }
 
 void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
