@@ -109,6 +109,27 @@ struct RunStats {
   Effects effects;  ///< what the scene needed and what was skipped (core/effects.h)
 };
 
+/// The figures of a run that come from its iterations: sums, the last iteration's
+/// sizes and the largest parallelism. The one place they are summed: the solver's
+/// totals (stats.json) and the experiments' runs.csv both take them from here.
+struct IterationTotals {
+  double refine_wall_s = 0, refine_cpu_s = 0, refine_thread_cpu_s = 0;
+  double propagate_wall_s = 0, idle_s = 0;
+  std::map<std::string, double> lock_wait_s;  ///< by lock class
+  std::uint64_t tasks = 0, links_created = 0, scheduler_ops = 0, steals = 0;
+  std::uint64_t rays_cast = 0, rays_skipped = 0;
+  int peak_parallelism = 0;  ///< the largest of any iteration
+  int gather_sweeps = 0;
+  /// Tasks whose receiver was on the refiner's node over all tasks placed (NaN: none).
+  double local_access_ratio = 0;
+  /// refine_thread_cpu_s per task, in nanoseconds (0 without tasks).
+  double task_cpu_ns = 0;
+  /// The last iteration's: links, elements and bytes by structure (0 / empty: none).
+  std::uint64_t links = 0, elements = 0;
+  std::map<std::string, std::uint64_t> bytes;
+};
+IterationTotals sum_iterations(const std::vector<IterationStats>& iterations);
+
 /// Peak resident set size of this process so far (from getrusage), in bytes.
 std::uint64_t peak_rss_bytes();
 

@@ -363,22 +363,15 @@ RunStats Solver::run() {
 
   RunTotals& t = stats.totals;
   t.wall_s = seconds_since(run_start);
-  std::uint64_t tasks_run = 0;
-  for (const IterationStats& is : stats.iterations) {
-    t.refine_wall_s += is.refine_wall_s;
-    t.refine_cpu_s += is.refine_cpu_s;
-    t.refine_thread_cpu_s += is.refine_thread_cpu_s;
-    tasks_run += is.tasks;
-    t.rays_cast += is.rays_cast;
-    t.rays_skipped += is.rays_skipped;
-  }
-  t.task_cpu_ns = tasks_run > 0 ? 1e9 * t.refine_thread_cpu_s / static_cast<double>(tasks_run) : 0.0;
-  if (!stats.iterations.empty()) {
-    t.links = stats.iterations.back().links;
-    t.elements = stats.iterations.back().elements;
-  } else {
-    t.elements = m.hierarchy.element_count();
-  }
+  const IterationTotals sums = sum_iterations(stats.iterations);
+  t.refine_wall_s = sums.refine_wall_s;
+  t.refine_cpu_s = sums.refine_cpu_s;
+  t.refine_thread_cpu_s = sums.refine_thread_cpu_s;
+  t.rays_cast = sums.rays_cast;
+  t.rays_skipped = sums.rays_skipped;
+  t.task_cpu_ns = sums.task_cpu_ns;
+  t.links = sums.links;
+  t.elements = stats.iterations.empty() ? m.hierarchy.element_count() : sums.elements;
   t.peak_rss_bytes = peak_rss_bytes();
   return stats;
 }

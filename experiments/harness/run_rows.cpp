@@ -69,28 +69,8 @@ void iteration_figures(Cells& c, const IterationStats& it) {
 
 void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
                  const AccuracyFigures* accuracy) {
-  double propagate = 0, idle = 0;
-  std::map<std::string, double> lock;
-  std::uint64_t created = 0, tasks = 0, ops = 0, steals = 0, local = 0, located = 0;
-  int peak_par = 0, sweeps = 0;
-  for (const IterationStats& it : stats.iterations) {
-    propagate += it.propagate_wall_s;
-    idle += it.idle_s;
-    for (const auto& [cls, s] : it.lock_wait_s) lock[cls] += s;
-    created += it.links_created;
-    tasks += it.tasks;
-    ops += it.scheduler_ops;
-    steals += it.steals;
-    peak_par = std::max(peak_par, it.peak_parallelism);
-    for (const RefinerStats& rs : it.refiners) {
-      local += rs.tasks_local;
-      located += rs.tasks_local + rs.tasks_remote;
-    }
-    sweeps += it.gather_sweeps;
-  }
+  const IterationTotals sums = sum_iterations(stats.iterations);
   const RunTotals& t = stats.totals;
-  static const IterationStats kNone;
-  const IterationStats& last = stats.iterations.empty() ? kNone : stats.iterations.back();
   const auto probe = [accuracy](double AccuracyFigures::*f) {
     return accuracy ? num(accuracy->*f) : std::string();
   };
@@ -99,28 +79,27 @@ void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
   c.add("refine_cpu_s", num(t.refine_cpu_s));
   c.add("refine_thread_cpu_s", num(t.refine_thread_cpu_s));
   c.add("task_cpu_ns", num(t.task_cpu_ns));
-  c.add("propagate_wall_s", num(propagate));
+  c.add("propagate_wall_s", num(sums.propagate_wall_s));
   c.add("links", num(t.links));
   c.add("elements", num(t.elements));
-  c.add("links_created", num(created));
+  c.add("links_created", num(sums.links_created));
   c.add("rays_cast", num(t.rays_cast));
   c.add("rays_skipped", num(t.rays_skipped));
   c.add("peak_rss_bytes", num(t.peak_rss_bytes));
-  c.add("bytes_elements", num(get(last.bytes, "elements")));
-  c.add("bytes_links", num(get(last.bytes, "links")));
-  c.add("bytes_total", num(sum(last.bytes)));
-  c.add("tasks", num(tasks));
-  c.add("scheduler_ops", num(ops));
-  c.add("steals", num(steals));
-  c.add("idle_s", num(idle));
-  c.add("lock_wait_scheduler_s", num(get(lock, "scheduler")));
-  c.add("lock_wait_element_s", num(get(lock, "element")));
-  c.add("lock_wait_link_s", num(get(lock, "link")));
-  c.add("lock_wait_total_s", num(sum(lock)));
-  c.add("peak_parallelism", num(peak_par));
-  c.add("local_access_ratio",
-        located == 0 ? std::string() : num(static_cast<double>(local) / static_cast<double>(located)));
-  c.add("gather_sweeps", num(sweeps));
+  c.add("bytes_elements", num(get(sums.bytes, "elements")));
+  c.add("bytes_links", num(get(sums.bytes, "links")));
+  c.add("bytes_total", num(sum(sums.bytes)));
+  c.add("tasks", num(sums.tasks));
+  c.add("scheduler_ops", num(sums.scheduler_ops));
+  c.add("steals", num(sums.steals));
+  c.add("idle_s", num(sums.idle_s));
+  c.add("lock_wait_scheduler_s", num(get(sums.lock_wait_s, "scheduler")));
+  c.add("lock_wait_element_s", num(get(sums.lock_wait_s, "element")));
+  c.add("lock_wait_link_s", num(get(sums.lock_wait_s, "link")));
+  c.add("lock_wait_total_s", num(sum(sums.lock_wait_s)));
+  c.add("peak_parallelism", num(sums.peak_parallelism));
+  c.add("local_access_ratio", num(sums.local_access_ratio));
+  c.add("gather_sweeps", num(sums.gather_sweeps));
   c.add("iterations_run", num(static_cast<int>(stats.iterations.size())));
   c.add("started_at", started_at);
   c.add("probe_err_mean", probe(&AccuracyFigures::mean));
