@@ -15,6 +15,7 @@
 //      folder if it created it.
 #include "core/auto_camera.h"
 #include "core/camera_spec.h"
+#include "core/clock.h"
 #include "core/input_error.h"
 #include "core/interrupt.h"
 #include "core/json_input.h"
@@ -35,7 +36,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -295,10 +295,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     const std::string started = experiment::now_iso8601();
     stats = solver->run();
     progress->finish();
-    const auto seconds_since = [](std::chrono::steady_clock::time_point t) {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-    };
-    const auto mesh_start = std::chrono::steady_clock::now();
+    const auto mesh_start = Clock::now();
     const RenderMesh mesh = solver->render_mesh(parse_shading(options.shading));
     image_info["shading"] = options.shading;
     image_info["mesh_s"] = seconds_since(mesh_start);
@@ -316,7 +313,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       if (!a.image.empty() && image.has_parent_path()) fs::create_directories(image.parent_path());
       const int width = options.image_width;
       const int height = std::max(1, width * 3 / 4);
-      const auto render_start = std::chrono::steady_clock::now();
+      const auto render_start = Clock::now();
       const Image img = render_radiance(mesh, camera.camera, width, height);
       image_info["width"] = width;
       image_info["height"] = height;
