@@ -23,6 +23,7 @@
 #include "core/pfm.h"
 #include "core/ply_writer.h"
 #include "core/probes.h"
+#include "core/provenance.h"
 #include "core/progress.h"
 #include "core/render.h"
 #include "core/scene_loader.h"
@@ -66,12 +67,6 @@ constexpr OptionFlag kOptionFlags[] = {
     {"--sides", "sides", "MODE"},         {"--segments", "segments", "N"},
     {"--shading", "shading", "MODE"},     {"--exposure", "exposure", "STOPS"},
 };
-
-#ifdef __clang__
-constexpr const char* kCompiler = "clang " __clang_version__;
-#else
-constexpr const char* kCompiler = "gcc " __VERSION__;
-#endif
 
 struct SolveArgs {
   std::string scene;
@@ -344,7 +339,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
 
     nlohmann::json j = {
         {"hrad", {{"version", kVersion}, {"git_revision", git_revision()},
-                  {"compiler", kCompiler}}},
+                  {"compiler", build_info().compiler}}},
         {"command_line", ctx.argv},
         {"started_at", started},
         {"config", options_to_json(options)},
