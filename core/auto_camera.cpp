@@ -1,6 +1,7 @@
 #include "core/auto_camera.h"
 
 #include "core/camera_spec.h"
+#include "core/clock.h"
 #include "core/ray_scene.h"
 #include "core/render.h"
 #include "core/transport.h"
@@ -8,7 +9,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -199,16 +199,16 @@ AutoCamera automatic_camera(const Scene& scene, const RayScene& rays) {
     throw std::invalid_argument(fmt::format(
         "automatic_camera: the ray scene holds {} polygons, the scene {} faces",
         rays.polygon_count(), scene.faces.size()));
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   AutoCamera out = choose(scene, rays);
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = seconds_since(start);
   return out;
 }
 
 AutoCamera automatic_camera(const Scene& scene) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   AutoCamera out = automatic_camera(scene, RayScene::from_scene(scene, RayScene::Build::Fast));
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = seconds_since(start);
   return out;
 }
 

@@ -10,10 +10,13 @@ namespace hrad {
 
 using Clock = std::chrono::steady_clock;
 
-/// Wall seconds from t0 to now.
-inline double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
+/// Wall seconds from t0 to t1.
+inline double seconds_between(Clock::time_point t0, Clock::time_point t1) {
+  return std::chrono::duration<double>(t1 - t0).count();
 }
+
+/// Wall seconds from t0 to now.
+inline double seconds_since(Clock::time_point t0) { return seconds_between(t0, Clock::now()); }
 
 /// CPU seconds this thread has run (CLOCK_THREAD_CPUTIME_ID; a system call, so
 /// read it per stage, not per task).

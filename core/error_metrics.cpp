@@ -1,6 +1,7 @@
 // Error metrics: see error_metrics.h.
 #include "core/error_metrics.h"
 
+#include "core/hash.h"
 #include "core/input_error.h"
 #include "core/median.h"
 #include "core/ray_scene.h"
@@ -80,13 +81,6 @@ struct MeshLookup {
                (1 - u) * v * b[q[3]]);
   }
 };
-
-std::uint64_t splitmix64(std::uint64_t& s) {
-  std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 
 double uniform(std::uint64_t& s) { return static_cast<double>(splitmix64(s) >> 11) * 0x1.0p-53; }
 

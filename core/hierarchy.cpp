@@ -1,5 +1,7 @@
 #include "core/hierarchy.h"
 
+#include "core/hash.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -10,10 +12,7 @@
 namespace hrad {
 
 std::uint64_t child_id(std::uint64_t parent, std::uint32_t index) {
-  std::uint64_t z = parent * 0x100000001B3ull + index + 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
+  return splitmix64_mix(parent * 0x100000001B3ull + index + 0x9E3779B97F4A7C15ull);
 }
 
 // Per-worker arenas: blocks of elements in `memory`, never moved, destroyed with

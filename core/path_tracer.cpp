@@ -2,6 +2,7 @@
 #include "core/path_tracer.h"
 
 #include "core/clock.h"
+#include "core/hash.h"
 #include "core/interrupt.h"
 
 #include <fmt/format.h>
@@ -15,13 +16,6 @@
 namespace hrad {
 
 namespace {
-
-constexpr std::uint64_t splitmix64(std::uint64_t& s) {
-  std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 
 /// Orthonormal basis around unit n (Duff et al. 2017, branchless).
 void basis(const Vec3& n, Vec3& t, Vec3& b) {

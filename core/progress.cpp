@@ -65,7 +65,7 @@ void ProgressReporter::update(const std::string& phase, double fraction) {
   const Clock::time_point now = now_();
   if (draws_ > 0 && now - last_draw_ < kMinInterval) return;
   last_draw_ = now;
-  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double elapsed = seconds_between(start_, now);
   const std::string line = format_line(phase, fraction, elapsed);
   const std::size_t pad = last_width_ > line.size() ? last_width_ - line.size() : 0;
   std::fprintf(out_, "\r%s%*s", line.c_str(), static_cast<int>(pad), "");

@@ -5,6 +5,8 @@
 // Solver's ProgressFn (core/solver.h); like that, it is meant for one thread.
 #pragma once
 
+#include "core/clock.h"
+
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -15,7 +17,7 @@ namespace hrad {
 
 class ProgressReporter {
  public:
-  using Clock = std::chrono::steady_clock;
+  using Clock = hrad::Clock;
   using NowFn = std::function<Clock::time_point()>;
 
   /// Minimum time between two drawn lines (10 updates per second at most).

@@ -487,11 +487,11 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     }
     const auto loop_end = Clock::now();
     store_links(w, true);  // whatever a busy lock made it defer
-    if (idle) w.c.idle_s += std::chrono::duration<double>(loop_end - idle_since).count();
+    if (idle) w.c.idle_s += seconds_between(idle_since, loop_end);
     // Busy: the loop less its idle and loading time (two clock reads per stage; a pair
     // per block cost 5 % of the refinement at block size 1).
     w.c.busy_s = std::max(
-        0.0, std::chrono::duration<double>(loop_end - loop_start).count() - w.c.idle_s - w.c.load_s);
+        0.0, seconds_between(loop_start, loop_end) - w.c.idle_s - w.c.load_s);
     // Every store is done: each refiner moves the lists it started into one block of
     // its own link arena (so, under first-touch, onto its node), then forgets its
     // staging blocks. Others may still be reading from this refiner's staging blocks;

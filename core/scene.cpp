@@ -33,6 +33,19 @@ double Scene::total_area() const {
   return a;
 }
 
+Rgb Scene::emitted_power() const {
+  Rgb power = Rgb::Zero();
+  for (std::size_t f = 0; f < faces.size(); ++f) power += face_material(f).emission * face_area(f);
+  return power;
+}
+
+double Scene::max_channel_emitted_power() const {
+  double power = 0;
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    power += face_area(f) * face_material(f).emission.maxCoeff();
+  return power;
+}
+
 std::size_t Scene::emitter_count() const {
   return static_cast<std::size_t>(std::count_if(faces.begin(), faces.end(), [&](const Face& f) {
     return materials[f.material].emits();

@@ -66,6 +66,11 @@ struct Scene {
   [[nodiscard]] Aabb bounds() const;
   [[nodiscard]] double total_area() const;
   [[nodiscard]] std::size_t emitter_count() const;
+  /// Per channel, the sum over faces of emission x area (stats.json's emitted_power).
+  [[nodiscard]] Rgb emitted_power() const;
+  /// The sum over faces of area x the face's largest emission channel: the power
+  /// scale that the oracle threshold eps is relative to (core/solver.cpp).
+  [[nodiscard]] double max_channel_emitted_power() const;
   /// True when every reflectance and emission has equal channels.
   [[nodiscard]] bool is_grey() const;
   /// 2 (z up) when clearly more face area faces along z than along y (1.5 times),

@@ -112,12 +112,9 @@ struct Solver::Impl {
         transport(hierarchy, rays, o.visibility_rays, o.seed, parse_cluster_model(o.cluster_model)),
         oracle(make_oracle(o.oracle)),
         row_sum_mode(parse_row_sum_mode(o.row_sums)),
-        receiver_mode(parse_cluster_receiver(o.cluster_receiver)) {
-    for (std::size_t f = 0; f < s.faces.size(); ++f) {
-      const double a = s.face_area(f);
-      total_area += a;
-      emitted_power += a * s.face_material(f).emission.maxCoeff();
-    }
+        receiver_mode(parse_cluster_receiver(o.cluster_receiver)),
+        emitted_power(s.max_channel_emitted_power()),
+        total_area(s.total_area()) {
     effects = analyse_effects(s, o);
     transport.set_visibility_effect(effects.visibility.on);
     transport.set_shaft_culling(o.shaft_culling == "on" &&

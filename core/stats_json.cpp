@@ -105,9 +105,7 @@ nlohmann::json stats_to_json(const RunStats& stats) {
 }
 
 nlohmann::json scene_summary_json(const Scene& scene) {
-  Rgb power = Rgb::Zero();
-  for (std::size_t f = 0; f < scene.faces.size(); ++f)
-    power += scene.face_material(f).emission * scene.face_area(f);
+  const Rgb power = scene.emitted_power();
   const Aabb b = scene.bounds();
   nlohmann::json bounds = nullptr;
   if (!b.empty()) bounds = {{"lo", vec3(b.lo)}, {"hi", vec3(b.hi)}};

@@ -1,6 +1,7 @@
 #include "core/transport.h"
 
 #include "core/form_factor.h"
+#include "core/hash.h"
 #include "core/hierarchy.h"
 #include "core/ray_scene.h"
 
@@ -14,12 +15,6 @@
 namespace hrad {
 
 namespace {
-
-std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 
 /// Largest signed distance of the box's corners from the plane (n, p0).
 double box_front(const Aabb& b, const Vec3& n, const Vec3& p0) {
@@ -41,7 +36,8 @@ double polygon_front(std::span<const Vec3> poly, const Vec3& n, const Vec3& p0) 
 }  // namespace
 
 double hashed_uniform(std::uint64_t key, std::uint64_t i) {
-  return static_cast<double>(mix64(key + 0x9E3779B97F4A7C15ull * (i + 1)) >> 11) * 0x1.0p-53;
+  const std::uint64_t z = splitmix64_mix(key + 0x9E3779B97F4A7C15ull * (i + 1));
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
 }
 
 ClusterModel parse_cluster_model(const std::string& name) {
@@ -246,7 +242,8 @@ double Transport::kernel_visibility(SampleA&& sample_a, const Vec3& toward_a, do
   double w_open = 0, w_all = 0;
   int open = 0;
   std::uint64_t offsets[6];
-  for (int dim = 0; dim < 6; ++dim) offsets[dim] = mix64(key + 0x51ED27ull * static_cast<std::uint64_t>(dim + 1));
+  for (int dim = 0; dim < 6; ++dim)
+    offsets[dim] = splitmix64_mix(key + 0x51ED27ull * static_cast<std::uint64_t>(dim + 1));
   for (int k = 0; k < k_rays; ++k) {
     const auto i = static_cast<std::uint64_t>(6 * k);
     const auto strat = [&](int dim) {
@@ -283,8 +280,8 @@ double Transport::visibility(const Element& r, const Element& s, std::uint64_t& 
     skipped += static_cast<std::uint64_t>(visibility_rays_);
     return 1.0;
   }
-  std::uint64_t key = mix64(mix64(r.id ^ seed_) + s.id);
-  if (draw != 0) key = mix64(key + 0xD1B54A32D192ED03ull * draw);
+  std::uint64_t key = splitmix64_mix(splitmix64_mix(r.id ^ seed_) + s.id);
+  if (draw != 0) key = splitmix64_mix(key + 0xD1B54A32D192ED03ull * draw);
   const auto sample_r = [&](double u1, double u2, double u3) {
     std::uint32_t fa = RayScene::kNoPolygon;
     const Vec3 a = hierarchy_.sample_point(r, u1, u2, u3, &s.center, &fa);
@@ -302,7 +299,7 @@ double Transport::visibility_from_point(const Vec3& p, const Vec3& n, const Elem
   const auto sample_p = [&](double, double, double) {
     return std::tuple<Vec3, Vec3, std::uint32_t>(p, n, RayScene::kNoPolygon);
   };
-  return kernel_visibility(sample_p, p, s.radius(), s, mix64(key ^ seed_), k_rays);
+  return kernel_visibility(sample_p, p, s.radius(), s, splitmix64_mix(key ^ seed_), k_rays);
 }
 
 }  // namespace hrad

@@ -15,6 +15,7 @@
 //      folder if it created it.
 #include "core/auto_camera.h"
 #include "core/camera_spec.h"
+#include "core/clock.h"
 #include "core/input_error.h"
 #include "core/interrupt.h"
 #include "core/json_input.h"
@@ -22,6 +23,7 @@
 #include "core/pfm.h"
 #include "core/ply_writer.h"
 #include "core/probes.h"
+#include "core/provenance.h"
 #include "core/progress.h"
 #include "core/render.h"
 #include "core/scene_loader.h"
@@ -35,7 +37,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -66,12 +67,6 @@ constexpr OptionFlag kOptionFlags[] = {
     {"--sides", "sides", "MODE"},         {"--segments", "segments", "N"},
     {"--shading", "shading", "MODE"},     {"--exposure", "exposure", "STOPS"},
 };
-
-#ifdef __clang__
-constexpr const char* kCompiler = "clang " __clang_version__;
-#else
-constexpr const char* kCompiler = "gcc " __VERSION__;
-#endif
 
 struct SolveArgs {
   std::string scene;
@@ -295,10 +290,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     const std::string started = experiment::now_iso8601();
     stats = solver->run();
     progress->finish();
-    const auto seconds_since = [](std::chrono::steady_clock::time_point t) {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-    };
-    const auto mesh_start = std::chrono::steady_clock::now();
+    const auto mesh_start = Clock::now();
     const RenderMesh mesh = solver->render_mesh(parse_shading(options.shading));
     image_info["shading"] = options.shading;
     image_info["mesh_s"] = seconds_since(mesh_start);
@@ -316,7 +308,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       if (!a.image.empty() && image.has_parent_path()) fs::create_directories(image.parent_path());
       const int width = options.image_width;
       const int height = std::max(1, width * 3 / 4);
-      const auto render_start = std::chrono::steady_clock::now();
+      const auto render_start = Clock::now();
       const Image img = render_radiance(mesh, camera.camera, width, height);
       image_info["width"] = width;
       image_info["height"] = height;
@@ -347,7 +339,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
 
     nlohmann::json j = {
         {"hrad", {{"version", kVersion}, {"git_revision", git_revision()},
-                  {"compiler", kCompiler}}},
+                  {"compiler", build_info().compiler}}},
         {"command_line", ctx.argv},
         {"started_at", started},
         {"config", options_to_json(options)},

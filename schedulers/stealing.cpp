@@ -34,9 +34,9 @@
 // another thread takes as w.
 //
 // Lock waits: takes never wait (the inbox is only try_lock'ed); only submits from a
-// non-owner thread can wait for the inbox lock, and those waits are what lock_wait_s
-// reports (normally 0).
-#include "core/clock.h"
+// non-owner thread can wait for the inbox lock (timed_lock, as the central schedulers:
+// a short spin, then sleep), and those waits are what lock_wait_s reports (normally 0).
+#include "core/timed_lock.h"
 #include "schedulers/scheduler.h"
 #include "schedulers/ws_deque.h"
 
@@ -109,12 +109,7 @@ class StealingScheduler final : public IScheduler {
       if (claimed) w.owner.store(std::thread::id(), std::memory_order_release);
       return;
     }
-    std::unique_lock lock(inbox_mutex_, std::try_to_lock);
-    if (!lock.owns_lock()) {
-      const auto t0 = Clock::now();
-      lock.lock();
-      inbox_wait_s_ += seconds_since(t0);
-    }
+    const std::unique_lock lock = timed_lock(inbox_mutex_, inbox_wait_s_);
     inbox_.insert(inbox_.end(), tasks.begin(), tasks.end());
     ++inbox_submits_;
     inbox_size_.store(inbox_.size(), std::memory_order_relaxed);

@@ -21,14 +21,6 @@
 namespace hrad {
 namespace {
 
-// Sum over faces of area x largest emission channel: what eps is relative to.
-double emitted_power(const Scene& scene) {
-  double power = 0;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f)
-    power += scene.face_area(f) * scene.face_material(f).emission.maxCoeff();
-  return power;
-}
-
 TEST(Progress, FormatCount) {
   EXPECT_EQ(ProgressReporter::format_count(0), "0");
   EXPECT_EQ(ProgressReporter::format_count(999), "999");
@@ -49,7 +41,7 @@ TEST(Progress, FormatCount) {
 TEST(RefinerProgress, ReportsDuringTheStageAndStopsWithIt) {
   const Scene scene = make_builtin("builtin:office");
   const RayScene rays = RayScene::from_scene(scene);
-  const double power = emitted_power(scene);
+  const double power = scene.max_channel_emitted_power();
   for (int threads : {1, 2}) {
     Hierarchy h(scene, threads);
     const Transport transport(h, rays, 4, 1);
@@ -92,7 +84,7 @@ TEST(RefinerProgress, ReportsDuringTheStageAndStopsWithIt) {
 TEST(RefinerProgress, SameLinksWithAndWithoutProgress) {
   const Scene scene = make_builtin("builtin:cornell");
   const RayScene rays = RayScene::from_scene(scene);
-  const double power = emitted_power(scene);
+  const double power = scene.max_channel_emitted_power();
   std::uint64_t links[2] = {0, 0}, counted[2] = {0, 0};
   for (int with : {0, 1}) {
     Hierarchy h(scene, 2);

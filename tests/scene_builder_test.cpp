@@ -27,6 +27,25 @@ TEST(SceneBuilder, KeepsPlanarConvexQuadAsOnePolygon) {
   EXPECT_TRUE(s.warnings.empty());
 }
 
+// Per channel, the lamps' powers add up; the largest-channel sum takes each face's
+// largest channel first, so a red and a blue lamp count both.
+TEST(SceneBuilder, EmittedPowerPerChannelAndLargestChannel) {
+  SceneBuilder b("t", "t");
+  Material red = grey(0.5), blue = grey(0.5);
+  red.name = "red";
+  red.emission = Rgb(2, 0, 0);
+  blue.name = "blue";
+  blue.emission = Rgb(0, 0, 3);
+  const auto r = b.add_material(red, kHere), u = b.add_material(blue, kHere);
+  b.add_polygon(std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, r, kHere);
+  b.add_polygon(std::vector<Vec3>{{0, 0, 1}, {2, 0, 1}, {0, 1, 1}}, u, kHere);  // area 1
+  const Scene s = b.finish("test.obj");
+  EXPECT_DOUBLE_EQ(s.emitted_power()[0], 2.0);
+  EXPECT_DOUBLE_EQ(s.emitted_power()[1], 0.0);
+  EXPECT_DOUBLE_EQ(s.emitted_power()[2], 3.0);
+  EXPECT_DOUBLE_EQ(s.max_channel_emitted_power(), 5.0);
+}
+
 TEST(SceneBuilder, TriangulatesConcavePolygonPreservingArea) {
   SceneBuilder b("t", "t");
   const auto m = b.add_material(grey(0.5, 1), kHere);

@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/json_input.h"
+#include "core/provenance.h"
 #include "core/topology.h"
 #include "experiments/harness/run_rows.h"
 
@@ -17,23 +18,10 @@
 
 extern char** environ;
 
-#ifndef HRAD_BUILD_TYPE
-#define HRAD_BUILD_TYPE "unknown"
-#endif
-#ifndef HRAD_CXX_FLAGS
-#define HRAD_CXX_FLAGS "unknown"
-#endif
-
 namespace hrad::experiment {
 namespace {
 
 using ojson = nlohmann::ordered_json;
-
-#ifdef __clang__
-constexpr const char* kCompiler = "clang " __clang_version__;
-#else
-constexpr const char* kCompiler = "gcc " __VERSION__;
-#endif
 
 std::string local_time(const char* format) {
   const std::time_t now = std::time(nullptr);
@@ -107,11 +95,12 @@ ojson make_manifest(const ManifestInputs& in) {
                      {"points", in.points},
                      {"repetitions", c.repetitions},
                      {"runs", in.points * c.repetitions}};
+  const BuildInfo build = build_info();
   m["hrad"] = {{"version", in.version},
                {"git_revision", in.git_revision},
-               {"compiler", kCompiler},
-               {"build_type", HRAD_BUILD_TYPE},
-               {"cxx_flags", HRAD_CXX_FLAGS}};
+               {"compiler", build.compiler},
+               {"build_type", build.build_type},
+               {"cxx_flags", build.cxx_flags}};
   m["command_line"] = in.command_line;
   m["machine"] = machine_json(cpu);
   m["topology"] = topology;

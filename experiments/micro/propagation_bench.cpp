@@ -38,11 +38,7 @@ struct Refined {
   std::size_t links = 0;
 
   Refined() {
-    double power = 0, area = 0;
-    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-      area += scene.face_area(f);
-      power += scene.face_area(f) * scene.face_material(f).emission.maxCoeff();
-    }
+    const double power = scene.max_channel_emitted_power(), area = scene.total_area();
     const auto oracle = make_oracle("bf");
     LockPool element_locks(2, 1), link_locks(2, 1);
     Refiner refiner(hierarchy, transport, *oracle, RefineLimits{1e-4 * power, 1e-4 * area},
