@@ -1,7 +1,6 @@
 #include "core/iteration_fields.h"
 
 #include <cmath>
-#include <numeric>
 
 namespace hrad {
 namespace {
@@ -30,6 +29,7 @@ double per(const std::map<std::string, std::uint64_t>& bytes, const char* key, s
 }
 
 using S = IterationStats;
+// A getter of one figure, as a count or as a real, from an expression of `it`.
 #define HRAD_COUNT(expr) [](const S& it) { return count(static_cast<std::uint64_t>(expr)); }
 #define HRAD_REAL(expr) [](const S& it) { return real(expr); }
 
