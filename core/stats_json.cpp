@@ -2,7 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/camera_spec.h"
-#include "core/iteration_fields.h"
+#include "core/stat_fields.h"
 
 #include <cmath>
 #include <ostream>
@@ -72,28 +72,22 @@ nlohmann::json iteration_json(const IterationStats& it) {
   return j;
 }
 
+nlohmann::json totals_json(const RunStats& stats) {
+  const IterationTotals sums = sum_iterations(stats.iterations);
+  nlohmann::json j = nlohmann::json::object();
+  for (const RunField& f : run_fields())
+    if (f.path) j[nlohmann::json::json_pointer(std::string("/") + f.path)] = field_json(f.get(stats, sums));
+  return j;
+}
+
 }  // namespace
 
 nlohmann::json stats_to_json(const RunStats& stats) {
   nlohmann::json iterations = nlohmann::json::array();
   for (const IterationStats& it : stats.iterations) iterations.push_back(iteration_json(it));
-  const RunTotals& t = stats.totals;
   return {
       {"iterations", std::move(iterations)},
-      {"totals",
-       {
-           {"wall_s", number(t.wall_s)},
-           {"refine_wall_s", number(t.refine_wall_s)},
-           {"refine_cpu_s", number(t.refine_cpu_s)},
-           {"refine_thread_cpu_s", number(t.refine_thread_cpu_s)},
-           {"task_cpu_ns", number(t.task_cpu_ns)},
-           {"links", t.links},
-           {"elements", t.elements},
-           {"rays_cast", t.rays_cast},
-           {"rays_skipped", t.rays_skipped},
-           {"peak_rss_bytes", t.peak_rss_bytes},
-           {"iterations_run", t.iterations_run},
-       }},
+      {"totals", totals_json(stats)},
       {"effects",
        {{"visibility", effect_json(stats.effects.visibility)},
         {"interreflection", effect_json(stats.effects.interreflection)},

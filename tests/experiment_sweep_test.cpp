@@ -1,6 +1,6 @@
 // Sweep expansion (order, counts, options of each point) and the flat rows of
 // runs.csv / iterations.csv made from RunStats.
-#include "core/iteration_fields.h"
+#include "core/stat_fields.h"
 #include "core/options_io.h"
 #include "core/stats_json.h"
 #include "experiments/harness/run_rows.h"
@@ -85,6 +85,7 @@ RunStats two_iterations() {
   s.totals.links = 200;
   s.totals.elements = 20;
   s.totals.rays_cast = 14;
+  s.totals.iterations_run = 2;
   return s;
 }
 
@@ -121,7 +122,7 @@ TEST(ExperimentRows, ColumnsAndValues) {
   EXPECT_EQ(r.iterations[0][column_index(ic, "lock_wait_total_s")], "0.875");
 }
 
-// stats.json and iterations.csv are written from one table (core/iteration_fields.h):
+// stats.json and iterations.csv are written from one table (core/stat_fields.h):
 // every scalar of an iteration in stats.json is a CSV column with the same value, and
 // every CSV figure column is in the table.
 TEST(ExperimentRows, EveryIterationScalarOfStatsJsonIsACsvColumn) {
@@ -169,6 +170,30 @@ TEST(ExperimentRows, EveryIterationScalarOfStatsJsonIsACsvColumn) {
   EXPECT_EQ(row[column_index(ic, "local_access_ratio")], "");
   // Identity, options and the table: nothing else in the header.
   EXPECT_EQ(ic.size(), 5 + option_table().size() + iteration_fields().size());
+}
+
+// The same for a run: stats.json's totals and runs.csv come from run_fields().
+TEST(ExperimentRows, EveryTotalOfStatsJsonIsARunsCsvColumn) {
+  RunStats s = two_iterations();
+  s.totals.task_cpu_ns = 12.5;
+  s.totals.peak_rss_bytes = 4096;
+  const nlohmann::json j = stats_to_json(s)["totals"];
+  const std::vector<SweepPoint> p = expand_sweep(config());
+  const RunRows r = make_run_rows("s", p[0], 0, s, "2026-01-01T00:00:00+0000");
+  const auto& rc = run_columns();
+  int totals = 0;
+  for (const auto& [key, v] : j.items()) {
+    const std::string expected =
+        v.is_null() ? "" : v.is_number_float() ? fmt::format("{}", v.get<double>()) : v.dump();
+    EXPECT_EQ(r.run[column_index(rc, key)], expected) << key;
+    ++totals;
+  }
+  EXPECT_EQ(totals, std::count_if(run_fields().begin(), run_fields().end(),
+                                  [](const RunField& f) { return f.path != nullptr; }));
+  EXPECT_EQ(j["iterations_run"], 2);
+  EXPECT_EQ(j["task_cpu_ns"], 12.5);
+  // Identity, options, the table, then the start time and the four probe columns.
+  EXPECT_EQ(rc.size(), 5 + option_table().size() + run_fields().size() + 5);
 }
 
 TEST(ExperimentRows, HeaderStartsWithIdentityThenOptions) {

@@ -1,6 +1,6 @@
 #include "experiments/harness/run_rows.h"
 
-#include "core/iteration_fields.h"
+#include "core/stat_fields.h"
 #include "core/options_io.h"
 
 #include <fmt/format.h>
@@ -23,19 +23,6 @@ std::vector<std::string> with_identity_and_options() {
 std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : ""; }
 std::string num(std::uint64_t v) { return fmt::format("{}", v); }
 std::string num(int v) { return fmt::format("{}", v); }
-
-template <class V>
-V get(const std::map<std::string, V>& m, const std::string& key) {
-  const auto it = m.find(key);
-  return it == m.end() ? V{} : it->second;
-}
-
-template <class V>
-V sum(const std::map<std::string, V>& m) {
-  V s{};
-  for (const auto& [k, v] : m) s += v;
-  return s;
-}
 
 Row identity_and_options(const std::string& config_name, const SweepPoint& point,
                          int repetition) {
@@ -70,37 +57,10 @@ void iteration_figures(Cells& c, const IterationStats& it) {
 void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
                  const AccuracyFigures* accuracy) {
   const IterationTotals sums = sum_iterations(stats.iterations);
-  const RunTotals& t = stats.totals;
   const auto probe = [accuracy](double AccuracyFigures::*f) {
     return accuracy ? num(accuracy->*f) : std::string();
   };
-  c.add("wall_s", num(t.wall_s));
-  c.add("refine_wall_s", num(t.refine_wall_s));
-  c.add("refine_cpu_s", num(t.refine_cpu_s));
-  c.add("refine_thread_cpu_s", num(t.refine_thread_cpu_s));
-  c.add("task_cpu_ns", num(t.task_cpu_ns));
-  c.add("propagate_wall_s", num(sums.propagate_wall_s));
-  c.add("links", num(t.links));
-  c.add("elements", num(t.elements));
-  c.add("links_created", num(sums.links_created));
-  c.add("rays_cast", num(t.rays_cast));
-  c.add("rays_skipped", num(t.rays_skipped));
-  c.add("peak_rss_bytes", num(t.peak_rss_bytes));
-  c.add("bytes_elements", num(get(sums.bytes, "elements")));
-  c.add("bytes_links", num(get(sums.bytes, "links")));
-  c.add("bytes_total", num(sum(sums.bytes)));
-  c.add("tasks", num(sums.tasks));
-  c.add("scheduler_ops", num(sums.scheduler_ops));
-  c.add("steals", num(sums.steals));
-  c.add("idle_s", num(sums.idle_s));
-  c.add("lock_wait_scheduler_s", num(get(sums.lock_wait_s, "scheduler")));
-  c.add("lock_wait_element_s", num(get(sums.lock_wait_s, "element")));
-  c.add("lock_wait_link_s", num(get(sums.lock_wait_s, "link")));
-  c.add("lock_wait_total_s", num(sum(sums.lock_wait_s)));
-  c.add("peak_parallelism", num(sums.peak_parallelism));
-  c.add("local_access_ratio", num(sums.local_access_ratio));
-  c.add("gather_sweeps", num(sums.gather_sweeps));
-  c.add("iterations_run", num(static_cast<int>(stats.iterations.size())));
+  for (const RunField& f : run_fields()) c.add(f.column, num(f.get(stats, sums)));
   c.add("started_at", started_at);
   c.add("probe_err_mean", probe(&AccuracyFigures::mean));
   c.add("probe_err_max", probe(&AccuracyFigures::max));

@@ -1,7 +1,8 @@
-// One description per statistic of an iteration: its name, its unit and how to read
-// it from IterationStats. stats.json (core/stats_json.cpp) and the experiments'
-// iterations.csv (experiments/harness/run_rows.cpp) are both written from this table,
-// so a figure in one is a figure in the other.
+// One description per statistic: its name, its unit and how to read it, for an
+// iteration (IterationStats) and for a whole run (RunTotals and the sums over the
+// iterations, sum_iterations). stats.json (core/stats_json.cpp) and the experiments'
+// iterations.csv and runs.csv (experiments/harness/run_rows.cpp) are written from
+// these tables, so a figure in one is the same figure in the other.
 //
 // A field's `path` is its place in stats.json's iteration object, "/" between a nested
 // object and its key ("row_sums/min"); its CSV column is the path with "/" turned into
@@ -36,5 +37,18 @@ struct IterationField {
 
 /// Every scalar figure of an iteration, in the CSV's column order.
 const std::vector<IterationField>& iteration_fields();
+
+/// A figure of a whole run; `path` as above, in stats.json's `totals` (nullptr: in
+/// runs.csv only, where the per-iteration figures are summed).
+struct RunField {
+  const char* path;
+  const char* column;
+  const char* unit;
+  FieldValue (*get)(const RunStats&, const IterationTotals&);
+};
+
+/// Every figure of a run, in runs.csv's column order (before the experiment's own
+/// columns: start time and probe errors).
+const std::vector<RunField>& run_fields();
 
 }  // namespace hrad

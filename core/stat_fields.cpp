@@ -1,4 +1,4 @@
-#include "core/iteration_fields.h"
+#include "core/stat_fields.h"
 
 #include <cmath>
 
@@ -77,6 +77,58 @@ const std::vector<IterationField>& iteration_fields() {
       {"row_sums/within_3pct", "row_sums_within_3pct", "", HRAD_REAL(it.row_sum_within_band)},
       {"row_sums/corrected", "row_sums_corrected", "count", HRAD_COUNT(it.row_sum_corrected)},
       {"open/rays", "open_rays", "count", HRAD_COUNT(it.open_rays)},
+  };
+  return fields;
+}
+
+#undef HRAD_COUNT
+#undef HRAD_REAL
+
+namespace {
+using R = RunStats;
+using T = IterationTotals;
+#define HRAD_COUNT(expr)                                              \
+  []([[maybe_unused]] const R& run, [[maybe_unused]] const T& sums) { \
+    return count(static_cast<std::uint64_t>(expr));                   \
+  }
+#define HRAD_REAL(expr) \
+  []([[maybe_unused]] const R& run, [[maybe_unused]] const T& sums) { return real(expr); }
+}  // namespace
+
+const std::vector<RunField>& run_fields() {
+  // Totals the solver keeps (RunTotals) or sums over the iterations (IterationTotals).
+  static const std::vector<RunField> fields = {
+      {"wall_s", "wall_s", "s", HRAD_REAL(run.totals.wall_s)},
+      {"refine_wall_s", "refine_wall_s", "s", HRAD_REAL(run.totals.refine_wall_s)},
+      {"refine_cpu_s", "refine_cpu_s", "s", HRAD_REAL(run.totals.refine_cpu_s)},
+      {"refine_thread_cpu_s", "refine_thread_cpu_s", "s",
+       HRAD_REAL(run.totals.refine_thread_cpu_s)},
+      {"task_cpu_ns", "task_cpu_ns", "ns", HRAD_REAL(run.totals.task_cpu_ns)},
+      {nullptr, "propagate_wall_s", "s", HRAD_REAL(sums.propagate_wall_s)},
+      {"links", "links", "count", HRAD_COUNT(run.totals.links)},
+      {"elements", "elements", "count", HRAD_COUNT(run.totals.elements)},
+      {nullptr, "links_created", "count", HRAD_COUNT(sums.links_created)},
+      {"rays_cast", "rays_cast", "count", HRAD_COUNT(run.totals.rays_cast)},
+      {"rays_skipped", "rays_skipped", "count", HRAD_COUNT(run.totals.rays_skipped)},
+      {"peak_rss_bytes", "peak_rss_bytes", "bytes",
+       HRAD_COUNT(run.totals.peak_rss_bytes)},
+      {nullptr, "bytes_elements", "bytes", HRAD_COUNT(at(sums.bytes, "elements"))},
+      {nullptr, "bytes_links", "bytes", HRAD_COUNT(at(sums.bytes, "links"))},
+      {nullptr, "bytes_total", "bytes", HRAD_COUNT(total(sums.bytes))},
+      {nullptr, "tasks", "count", HRAD_COUNT(sums.tasks)},
+      {nullptr, "scheduler_ops", "count", HRAD_COUNT(sums.scheduler_ops)},
+      {nullptr, "steals", "count", HRAD_COUNT(sums.steals)},
+      {nullptr, "idle_s", "s", HRAD_REAL(sums.idle_s)},
+      {nullptr, "lock_wait_scheduler_s", "s",
+       HRAD_REAL(at(sums.lock_wait_s, "scheduler"))},
+      {nullptr, "lock_wait_element_s", "s", HRAD_REAL(at(sums.lock_wait_s, "element"))},
+      {nullptr, "lock_wait_link_s", "s", HRAD_REAL(at(sums.lock_wait_s, "link"))},
+      {nullptr, "lock_wait_total_s", "s", HRAD_REAL(total(sums.lock_wait_s))},
+      {nullptr, "peak_parallelism", "count", HRAD_COUNT(sums.peak_parallelism)},
+      {nullptr, "local_access_ratio", "", HRAD_REAL(sums.local_access_ratio)},
+      {nullptr, "gather_sweeps", "count", HRAD_COUNT(sums.gather_sweeps)},
+      {"iterations_run", "iterations_run", "count",
+       HRAD_COUNT(run.totals.iterations_run)},
   };
   return fields;
 }
