@@ -4,10 +4,10 @@
 //
 // | key                 | type   | default      | meaning                                                    |
 // |---------------------|--------|--------------|------------------------------------------------------------|
-// | scheduler           | string | "stack"      | refinement task order (schedulers/: stack, fifo, ...)      |
+// | scheduler           | string | "stack"      | refinement task order (a name in scheduler_names())        |
 // | block_size          | int    | 1            | tasks a refiner takes (and buffers) per scheduler visit     |
 // | threads             | int    | 1            | refiner threads                                            |
-// | oracle              | string | "bf"         | refinement oracle (oracles/: bf, error)                    |
+// | oracle              | string | "bf"         | refinement oracle (a name in oracle_names())               |
 // | eps                 | double | 1e-4         | oracle threshold, relative to total emitted power          |
 // | min_area            | double | 1e-4         | smallest element, relative to total scene area             |
 // | iterations          | int    | 4            | refinement iterations (the paper uses 4)                   |

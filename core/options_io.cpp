@@ -2,6 +2,8 @@
 
 #include "core/camera_spec.h"
 #include "core/json_input.h"
+#include "oracles/oracle.h"
+#include "schedulers/scheduler.h"
 
 #include <fmt/format.h>
 
@@ -27,6 +29,9 @@ struct Row {
   /// For string keys with a syntax of their own: throws std::invalid_argument saying
   /// what is wrong with the text (nullptr: any text).
   void (*check_text)(const std::string&) = nullptr;
+  /// For keys that name a plug-in: its registry's names, appended to the help when the
+  /// table is built (at run time, so a new plug-in is listed without editing this).
+  std::vector<std::string> (*names)() = nullptr;
 };
 
 void check_camera_text(const std::string& text) {
@@ -36,10 +41,11 @@ void check_camera_text(const std::string& text) {
 const std::vector<Row>& rows() {
   using S = SolverOptions;
   static const std::vector<Row> table = {
-      {"scheduler", &S::scheduler, "refinement scheduler (task order), by name"},
+      {"scheduler", &S::scheduler, "refinement scheduler (task order), by name", nullptr,
+       &scheduler_names},
       {"block_size", &S::block_size, "tasks a refiner takes (and buffers) per scheduler visit"},
       {"threads", &S::threads, "refiner threads"},
-      {"oracle", &S::oracle, "refinement oracle, by name"},
+      {"oracle", &S::oracle, "refinement oracle, by name", nullptr, &oracle_names},
       {"eps", &S::eps, "oracle threshold, relative to the total emitted power"},
       {"min_area", &S::min_area, "smallest element area, relative to the total scene area"},
       {"iterations", &S::iterations, "refinement iterations (the paper uses 4)"},
@@ -211,7 +217,11 @@ const char* option_type_name(OptionType t) {
 const std::vector<OptionInfo>& option_table() {
   static const std::vector<OptionInfo> table = [] {
     std::vector<OptionInfo> t;
-    for (const Row& r : rows()) t.push_back({r.name, type_of(r.member), r.help});
+    for (const Row& r : rows()) {
+      std::string help = r.help;
+      if (r.names) help += fmt::format(": {}", fmt::join(r.names(), ", "));
+      t.push_back({r.name, type_of(r.member), std::move(help)});
+    }
     return t;
   }();
   return table;

@@ -31,7 +31,9 @@ struct OptionInfo {
   std::string help;  ///< one line: meaning and unit, without the default
 };
 
-/// Every key in table order (the order of core/options.h).
+/// Every key in table order (the order of core/options.h). The scheduler and oracle
+/// help lists the registries' names, so the table is built on first use: not during
+/// static initialisation, when plug-ins may still be registering.
 [[nodiscard]] const std::vector<OptionInfo>& option_table();
 
 /// The row for a key (canonical name or alias); nullptr when there is none.

@@ -124,9 +124,11 @@ struct Solver::Impl {
 
 Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress) {
   validate_options(options);
-  // Names are checked before the (possibly long) hierarchy build.
-  make_scheduler(options.scheduler, SchedulerConfig{options.threads, options.block_size});
-  make_oracle(options.oracle);
+  // Names are checked before the (possibly long) hierarchy build, against the
+  // registries: nothing is built for the check (threads and block_size, which
+  // make_scheduler also checks, are validate_options' part).
+  check_scheduler_name(options.scheduler);
+  check_oracle_name(options.oracle);
   impl_ = std::make_unique<Impl>(scene, options, std::move(progress));
 }
 

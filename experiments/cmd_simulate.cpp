@@ -7,7 +7,7 @@
 // | option          | value     | default                 | meaning                                 |
 // |-----------------|-----------|-------------------------|-----------------------------------------|
 // | --procs         | LIST      | 1,2,4,8,16,32,64        | processor counts to simulate            |
-// | --scheduler     | NAME      | the trace's             | stack, fifo, priority, blocked, stealing |
+// | --scheduler     | NAME      | the trace's             | one of policy_names() (cost_model.h)    |
 // | --block-size    | N         | the trace's             | tasks per take                          |
 // | --costs         | FILE.json | per-scheduler defaults  | cost model fields (cost_model.h)        |
 // | --take-ns       | X         | default                 | take_op_ns: lock held per take          |
@@ -127,7 +127,16 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   if (h.is_discarded() || !h.is_object())
     throw std::runtime_error(a.trace + ": not an hrad trace (the header is not a JSON object)");
   const std::string scheduler = !a.scheduler.empty() ? a.scheduler : h.value("scheduler", std::string("stack"));
-  const Policy policy = policy_from_name(scheduler);
+  // A name from the header is the trace's, not a flag's: say so, and what to do.
+  const Policy policy = [&] {
+    try {
+      return policy_from_name(scheduler);
+    } catch (const std::invalid_argument& e) {
+      if (!a.scheduler.empty()) throw;
+      throw std::invalid_argument(fmt::format(
+          "{} (the trace's scheduler): {}; --scheduler picks a simulated one", a.trace, e.what()));
+    }
+  }();
   const int block_size = a.block_size > 0 ? a.block_size : h.value("block_size", 1);
   if (block_size < 1) throw std::runtime_error(fmt::format("--block-size must be >= 1, not {}", block_size));
   const int trace_threads = h.value("threads", 0);
@@ -315,9 +324,13 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
       "more processors and predict refinement times and speed-ups.");
   sub->add_option("TRACE", args->trace, "trace file written by hrad solve --set trace=FILE")->required();
   sub->add_option("--procs", args->procs, "comma-separated processor counts")->capture_default_str();
+  const std::vector<std::string> unmodelled = unmodelled_schedulers();
+  const std::string not_modelled =
+      unmodelled.empty() ? "none" : fmt::format("{}", fmt::join(unmodelled, ", "));
   sub->add_option("--scheduler", args->scheduler,
-                  "policy to replay: stack, fifo, priority (replayed in fifo order), blocked, "
-                  "stealing (default: the trace's)");
+                  fmt::format("policy to replay: {} (priority is replayed in fifo order; not "
+                              "modelled: {}) (default: the trace's)",
+                              fmt::join(policy_names(), ", "), not_modelled));
   sub->add_option("--block-size", args->block_size, "tasks per take (default: the trace's)");
   sub->add_option("--costs", args->costs, "JSON object of cost model fields (experiments/sim/cost_model.h)");
   sub->add_option("--take-ns", args->take_ns, "central lock held per take, ns");

@@ -54,6 +54,8 @@ class IOracle {
 using OracleFactory = std::function<std::unique_ptr<IOracle>()>;
 std::unique_ptr<IOracle> make_oracle(const std::string& name);
 std::vector<std::string> oracle_names();
+/// Throws make_oracle's std::invalid_argument when `name` is not registered.
+void check_oracle_name(const std::string& name);
 bool register_oracle(const std::string& name, OracleFactory factory);
 
 /// Power reflected at r due to s per unit F, largest channel: rho_r * B_s * A_r.

@@ -27,13 +27,15 @@ std::vector<std::string> oracle_names() {
   return names;
 }
 
-std::unique_ptr<IOracle> make_oracle(const std::string& name) {
-  const auto it = registry().find(name);
-  if (it == registry().end())
+void check_oracle_name(const std::string& name) {
+  if (!registry().contains(name))
     throw std::invalid_argument(
         fmt::format("unknown oracle '{}' (known: {})", name, fmt::join(oracle_names(), ", ")));
-  return it->second();
 }
 
+std::unique_ptr<IOracle> make_oracle(const std::string& name) {
+  check_oracle_name(name);
+  return registry().find(name)->second();
+}
 
 }  // namespace hrad

@@ -25,11 +25,15 @@ std::vector<std::string> scheduler_names() {
   return names;
 }
 
-std::unique_ptr<IScheduler> make_scheduler(const std::string& name, const SchedulerConfig& config) {
-  const auto it = registry().find(name);
-  if (it == registry().end())
+void check_scheduler_name(const std::string& name) {
+  if (!registry().contains(name))
     throw std::invalid_argument(fmt::format("unknown scheduler '{}' (known: {})", name,
                                             fmt::join(scheduler_names(), ", ")));
+}
+
+std::unique_ptr<IScheduler> make_scheduler(const std::string& name, const SchedulerConfig& config) {
+  check_scheduler_name(name);
+  const auto it = registry().find(name);
   if (config.threads < 1 || config.block_size < 1)
     throw std::invalid_argument("scheduler needs threads >= 1 and block_size >= 1");
   return it->second(config);

@@ -94,6 +94,10 @@ using SchedulerFactory = std::function<std::unique_ptr<IScheduler>(const Schedul
 std::unique_ptr<IScheduler> make_scheduler(const std::string& name, const SchedulerConfig& config);
 std::vector<std::string> scheduler_names();
 
+/// Throws make_scheduler's std::invalid_argument when `name` is not registered; checks
+/// a name without building a scheduler.
+void check_scheduler_name(const std::string& name);
+
 /// Registration: each scheduler file defines one `static const bool registered =
 /// register_scheduler("name", factory);` — a new scheduler is one new file.
 bool register_scheduler(const std::string& name, SchedulerFactory factory);

@@ -1,8 +1,11 @@
 // End-to-end tests of the hrad binary (HRAD_BINARY): help, errors, and real solves
 // into a temporary folder.
+#include "oracles/oracle.h"
+#include "schedulers/scheduler.h"
 #include "tests/cli_fixture.h"
 #include "tests/read_text.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
@@ -41,6 +44,17 @@ TEST_F(Cli, SolveHelpMentionsEveryOption) {
         "--hdr", "SCENE"})
     EXPECT_TRUE(contains(r.out, opt)) << opt << "\n" << r.out;
   EXPECT_TRUE(contains(r.out, "default 4"));  // --iterations shows its default
+}
+
+// The plug-in names come from the registries, so a new scheduler or oracle is listed
+// without editing the help.
+TEST_F(Cli, SolveHelpListsTheRegisteredSchedulersAndOracles) {
+  const Result r = hrad("solve --help");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const std::string schedulers = fmt::format("{}", fmt::join(hrad::scheduler_names(), ", "));
+  const std::string oracles = fmt::format("{}", fmt::join(hrad::oracle_names(), ", "));
+  EXPECT_TRUE(contains(r.out, "by name: " + schedulers + " [config key scheduler")) << r.out;
+  EXPECT_TRUE(contains(r.out, "by name: " + oracles + " [config key oracle")) << r.out;
 }
 
 TEST_F(Cli, VersionNamesProgramAndRevision) {

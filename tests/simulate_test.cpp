@@ -6,9 +6,11 @@
 // critical path, bad input, and `hrad simulate` end to end.
 #include "core/trace.h"
 #include "experiments/sim/simulator.h"
+#include "schedulers/scheduler.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -308,6 +310,34 @@ TEST(Simulate, BadInputIsReported) {
   EXPECT_EQ(c.slowdown, 1.5);
 }
 
+// Each registered scheduler is simulated or deliberately not (kNotModelled in
+// cost_model.cpp, with why): a new scheduler fails here until someone decides which.
+// Neither list may name a scheduler that is not registered.
+TEST(Simulate, EveryRegisteredSchedulerIsModelledOrListedAsNot) {
+  const std::vector<std::string> modelled = policy_names(), unmodelled = unmodelled_schedulers();
+  const auto in = [](const std::vector<std::string>& v, const std::string& n) {
+    return std::find(v.begin(), v.end(), n) != v.end();
+  };
+  const std::vector<std::string> registered = scheduler_names();
+  for (const std::string& n : registered) {
+    EXPECT_NE(in(modelled, n), in(unmodelled, n))
+        << "scheduler '" << n << "': give it a simulated Policy or add it to kNotModelled "
+        << "(experiments/sim/cost_model.cpp), not both";
+  }
+  for (const std::string& n : modelled) EXPECT_TRUE(in(registered, n)) << n << " is not registered";
+  for (const std::string& n : unmodelled) {
+    EXPECT_TRUE(in(registered, n)) << n << " is not registered";
+    try {
+      (void)policy_from_name(n);
+      ADD_FAILURE() << n << " has no model but was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(
+          std::string(e.what()).rfind("the simulator has no model of scheduler '" + n + "'", 0), 0u)
+          << e.what();
+    }
+  }
+}
+
 // `hrad simulate` end to end: a table and a CSV marked "simulated"; bad input exits 1
 // with a message and writes nothing.
 TEST(Simulate, CommandLine) {
@@ -362,6 +392,20 @@ TEST(Simulate, CommandLine) {
   EXPECT_NE(text("err.txt").find("junk.bin: not an hrad trace"), std::string::npos) << text("err.txt");
   EXPECT_EQ(run("t.bin --scheduler lifo --out bad.csv"), 1);
   EXPECT_NE(text("err.txt").find("unknown scheduler 'lifo'"), std::string::npos) << text("err.txt");
+  // A registered scheduler without a model, asked for or the trace's own, is named as such.
+  EXPECT_EQ(run("t.bin --scheduler locality --out bad.csv"), 1);
+  EXPECT_NE(text("err.txt").find("no model of scheduler 'locality'"), std::string::npos)
+      << text("err.txt");
+  write_trace(
+      dir / "locality.bin",
+      R"({"format":"hrad-trace","version":1,"threads":1,"scheduler":"locality","block_size":2})",
+      binary_tree(8, 2000));
+  EXPECT_EQ(run("locality.bin --out bad.csv"), 1);
+  EXPECT_NE(
+      text("err.txt").find("locality.bin (the trace's scheduler): the simulator has no model of "
+                           "scheduler 'locality'"),
+      std::string::npos)
+      << text("err.txt");
   EXPECT_EQ(run("t.bin --procs 1,x,4 --out bad.csv"), 1);
   EXPECT_NE(text("err.txt").find("--procs: 'x'"), std::string::npos) << text("err.txt");
   EXPECT_EQ(run("t.bin --procs 0 --out bad.csv"), 1);

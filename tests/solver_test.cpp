@@ -3,6 +3,7 @@
 #include "core/interrupt.h"
 #include "core/probes.h"
 #include "core/solver.h"
+#include "schedulers/scheduler.h"
 #include "tests/read_text.h"
 #include "tests/solver_test_util.h"
 
@@ -546,6 +547,27 @@ TEST(SolverMemoryCap, StopsARefinementThatOutgrowsIt) {
       EXPECT_NE(std::string(e.what()).find("raise eps or min_area"), std::string::npos) << e.what();
     }
   }
+}
+
+// The Solver checks names against the registries, before anything is built, with the
+// registries' own message (make_scheduler's and make_oracle's).
+TEST(SolverNames, UnknownNamesGiveTheRegistriesMessages) {
+  const Scene scene = make_builtin("builtin:cornell");
+  const auto message = [](const auto& f) {
+    try {
+      f();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  SolverOptions o;
+  o.scheduler = "lifo";
+  const std::string registry = message([] { (void)make_scheduler("lifo", SchedulerConfig{}); });
+  EXPECT_EQ(message([&] { Solver s(scene, o); }), registry);
+  o = SolverOptions{};
+  o.oracle = "BF";
+  EXPECT_EQ(message([&] { Solver s(scene, o); }), "unknown oracle 'BF' (known: bf, error)");
 }
 
 }  // namespace

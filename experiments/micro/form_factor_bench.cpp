@@ -88,5 +88,3 @@ void BM_TriangleToQuad(benchmark::State& state) {
 BENCHMARK(BM_TriangleToQuad)->Arg(1)->Arg(2)->Arg(3);
 
 }  // namespace
-
-BENCHMARK_MAIN();

@@ -1,6 +1,6 @@
-// Microbenchmark of scheduler cost per task (issue 4, "Speed"): every scheduler x block
-// size {1, 10, 100} x threads {1, 2}. Each thread loops take(block) -> submit(the same
-// tasks back), with no work in between, so the pool keeps its initial population and all
+// Microbenchmark of scheduler cost per task (issue 4, "Speed"): every registered scheduler
+// x block size {1, 10, 100} x threads {1, 2}. Each thread loops take(block) -> submit(the
+// same tasks back), with no work in between, so the pool keeps its initial population and all
 // time is scheduler time. At 1 thread that is the uncontended cost; at 2 threads both
 // threads hammer the scheduler at once (contended; for `stealing` each worker serves
 // itself from its own deque, which is the point of work stealing: its initial population
@@ -15,9 +15,10 @@
 // |----------|--------------------------------|
 // | /B       | block size (tasks per take)    |
 // | threads  | threads taking and submitting  |
+#include "experiments/micro/scheduler_bench.h"
+
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <memory>
 #include <random>
 #include <string>
@@ -29,11 +30,6 @@ namespace {
 
 using hrad::IScheduler;
 using hrad::Task;
-
-// Names are fixed when benchmarks register (static initialisation, possibly before the
-// schedulers have registered themselves); BM_SchedulerListComplete fails loudly when a
-// registered scheduler is missing here.
-const char* const kSchedulers[] = {"stack", "fifo", "priority", "stealing", "blocked", "locality"};
 
 constexpr int kPopulation = 4096;  // tasks in the pool while the loop runs
 
@@ -70,11 +66,14 @@ void BM_SchedulerCost(benchmark::State& state, const std::string& name) {
       static_cast<double>(taken), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-const bool registered = [] {
-  for (const char* name : kSchedulers) {
+}  // namespace
+
+// Called by main (bench_main.cpp), after static initialisation: the schedulers register
+// themselves then, so a static initialiser here could see only some of them.
+void hrad::register_scheduler_benchmarks() {
+  for (const std::string& name : scheduler_names()) {
     for (int threads : {1, 2}) {
-      benchmark::RegisterBenchmark(("BM_SchedulerCost/" + std::string(name)).c_str(),
-                                   BM_SchedulerCost, std::string(name))
+      benchmark::RegisterBenchmark(("BM_SchedulerCost/" + name).c_str(), BM_SchedulerCost, name)
           ->Arg(1)
           ->Arg(10)
           ->Arg(100)
@@ -82,20 +81,4 @@ const bool registered = [] {
           ->UseRealTime();
     }
   }
-  return true;
-}();
-
-void BM_SchedulerListComplete(benchmark::State& state) {
-  for (const std::string& n : hrad::scheduler_names()) {
-    if (std::find(std::begin(kSchedulers), std::end(kSchedulers), n) == std::end(kSchedulers)) {
-      const std::string why = "scheduler '" + n + "' is not benchmarked: add it to kSchedulers";
-      state.SkipWithError(why.c_str());
-      break;
-    }
-  }
-  for (auto _ : state) {
-  }
 }
-BENCHMARK(BM_SchedulerListComplete)->Iterations(1);
-
-}  // namespace

@@ -32,11 +32,16 @@ namespace hrad::sim {
 /// The scheduling policies the simulator replays (schedulers/ has the real ones).
 enum class Policy { kStack, kFifo, kPriority, kBlocked, kStealing };
 
-/// "stack", "fifo", "priority", "blocked", "stealing"; throws std::invalid_argument
-/// listing them for any other name.
+/// A scheduler's policy by the scheduler's name (policy_names()). Any other name throws
+/// std::invalid_argument listing the simulated names and the registered schedulers
+/// that have no model (saying so when `name` is one of them).
 Policy policy_from_name(const std::string& name);
 const char* policy_name(Policy p);
 std::vector<std::string> policy_names();
+
+/// The registered schedulers deliberately not modelled (cost_model.cpp says why).
+/// Every name in scheduler_names() is in policy_names() or here (simulate_test).
+std::vector<std::string> unmodelled_schedulers();
 
 struct CostModel {
   double take_op_ns = 0;
