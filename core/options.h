@@ -5,7 +5,7 @@
 // | key                 | type   | default      | meaning                                                    |
 // |---------------------|--------|--------------|------------------------------------------------------------|
 // | scheduler           | string | "stack"      | refinement task order (a name in scheduler_names())        |
-// | block_size          | int    | 1            | tasks a refiner takes (and buffers) per scheduler visit     |
+// | block_size          | int    | 10           | tasks a refiner takes (and buffers) per scheduler visit     |
 // | threads             | int    | 1            | refiner threads                                            |
 // | oracle              | string | "bf"         | refinement oracle (a name in oracle_names())               |
 // | eps                 | double | 1e-4         | oracle threshold, relative to total emitted power          |
@@ -58,7 +58,7 @@ namespace hrad {
 
 struct SolverOptions {
   std::string scheduler = "stack";
-  int block_size = 1;
+  int block_size = 10;
   int threads = 1;
   std::string oracle = "bf";
   double eps = 1e-4;

@@ -28,7 +28,7 @@ bool contains(const std::string& s, const std::string& part) {
 SolverOptions non_default_options() {
   SolverOptions o;
   o.scheduler = "blocked";
-  o.block_size = 10;
+  o.block_size = 25;
   o.threads = 7;
   o.oracle = "error";
   o.eps = 2.5e-3;
