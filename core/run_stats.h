@@ -88,27 +88,6 @@ struct IterationStats {
   double open_area_fraction = 1;
 };
 
-struct RunTotals {
-  double wall_s = 0;
-  double refine_wall_s = 0;
-  double refine_cpu_s = 0;
-  std::uint64_t links = 0;
-  std::uint64_t elements = 0;
-  std::uint64_t rays_cast = 0;
-  std::uint64_t rays_skipped = 0;
-  std::uint64_t peak_rss_bytes = 0;
-  int iterations_run = 0;  ///< refinement iterations run (fewer than asked when stopped early)
-  double refine_thread_cpu_s = 0;  ///< summed over iterations (see IterationStats)
-  double task_cpu_ns = 0;          ///< refine_thread_cpu_s per task over all iterations
-};
-
-struct RunStats {
-  std::vector<IterationStats> iterations;
-  RunTotals totals;
-  std::vector<std::string> warnings;
-  Effects effects;  ///< what the scene needed and what was skipped (core/effects.h)
-};
-
 /// The figures of a run that come from its iterations: sums, the last iteration's
 /// sizes and the largest parallelism. The one place they are summed: the solver's
 /// totals (stats.json) and the experiments' runs.csv both take them from here.
@@ -129,6 +108,21 @@ struct IterationTotals {
   std::map<std::string, std::uint64_t> bytes;
 };
 IterationTotals sum_iterations(const std::vector<IterationStats>& iterations);
+
+/// A run's totals: what comes from its iterations (sum_iterations, so summed in one
+/// place) and what only the run knows.
+struct RunTotals : IterationTotals {
+  double wall_s = 0;
+  std::uint64_t peak_rss_bytes = 0;
+  int iterations_run = 0;  ///< refinement iterations run (fewer than asked when stopped early)
+};
+
+struct RunStats {
+  std::vector<IterationStats> iterations;
+  RunTotals totals;
+  std::vector<std::string> warnings;
+  Effects effects;  ///< what the scene needed and what was skipped (core/effects.h)
+};
 
 /// Peak resident set size of this process so far (from getrusage), in bytes.
 std::uint64_t peak_rss_bytes();

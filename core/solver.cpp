@@ -362,15 +362,8 @@ RunStats Solver::run() {
 
   RunTotals& t = stats.totals;
   t.wall_s = seconds_since(run_start);
-  const IterationTotals sums = sum_iterations(stats.iterations);
-  t.refine_wall_s = sums.refine_wall_s;
-  t.refine_cpu_s = sums.refine_cpu_s;
-  t.refine_thread_cpu_s = sums.refine_thread_cpu_s;
-  t.rays_cast = sums.rays_cast;
-  t.rays_skipped = sums.rays_skipped;
-  t.task_cpu_ns = sums.task_cpu_ns;
-  t.links = sums.links;
-  t.elements = stats.iterations.empty() ? m.hierarchy.element_count() : sums.elements;
+  static_cast<IterationTotals&>(t) = sum_iterations(stats.iterations);
+  if (stats.iterations.empty()) t.elements = m.hierarchy.element_count();
   t.peak_rss_bytes = peak_rss_bytes();
   return stats;
 }

@@ -41,7 +41,14 @@ RunStats sample_stats() {
     it.task_cpu_ns = 1e9 * it.refine_thread_cpu_s / 300;
     s.iterations.push_back(it);
   }
-  s.totals = {2.0, 1.5, 2.7, 300, 80, 2000, 500, 1u << 20};
+  s.totals.wall_s = 2.0;
+  s.totals.refine_wall_s = 1.5;
+  s.totals.refine_cpu_s = 2.7;
+  s.totals.links = 300;
+  s.totals.elements = 80;
+  s.totals.rays_cast = 2000;
+  s.totals.rays_skipped = 500;
+  s.totals.peak_rss_bytes = 1u << 20;
   s.warnings = {"scene has no emitter"};
   return s;
 }
