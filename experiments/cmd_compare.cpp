@@ -1,5 +1,5 @@
 // `hrad compare A B [--floor F] [--json FILE]`: error metrics of a result A against a
-// reference B (core/error_metrics.h).
+// reference B (core/reference/error_metrics.h).
 //
 //   A, B probes.csv files           probe metric
 //   A, B run folders                probe metric when both hold probes.csv, surface
@@ -8,10 +8,10 @@
 // must agree. Prints a
 // table on stdout; --json FILE writes the same numbers (atomically). Exit 1 with a
 // message naming the files for anything that cannot be compared.
-#include "core/error_metrics.h"
-#include "core/json_input.h"
-#include "core/ply_reader.h"
-#include "core/stats_json.h"
+#include "core/base/json_input.h"
+#include "core/output/stats_json.h"
+#include "core/reference/error_metrics.h"
+#include "core/scene/ply_reader.h"
 #include "experiments/commands.h"
 
 #include <fmt/format.h>

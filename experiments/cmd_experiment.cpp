@@ -15,8 +15,8 @@
 // Under mpirun with more than one rank (experiments/harness/mpi_sweep.h) every rank
 // reads the config; only rank 0 reports, writes and plots, and step 4 is spread over
 // the ranks. Every rank leaves through mpi::end once MPI has started.
-#include "core/interrupt.h"
-#include "core/scene_loader.h"
+#include "core/base/interrupt.h"
+#include "core/scene/scene_loader.h"
 #include "experiments/commands.h"
 #include "experiments/harness/experiment_config.h"
 #include "experiments/harness/experiment_runner.h"

@@ -1,5 +1,5 @@
 // `hrad reference SCENE --probes FILE --out DIR`: Monte Carlo path-traced irradiance at
-// probe points (core/path_tracer.h), the independent reference for `hrad solve`.
+// probe points (core/reference/path_tracer.h), the independent reference for `hrad solve`.
 //
 // Writes into DIR (created only after the scene and the probes have loaded):
 //   probes.csv      x,y,z,nx,ny,nz,E_r,E_g,E_b as `solve` writes it, then SE_r,SE_g,SE_b
@@ -7,14 +7,14 @@
 //   reference.json  options, floor, per-probe samples and convergence, time, rays.
 // Both atomically. Exit 1 on bad input; probes that miss the target are listed on stderr
 // and in reference.json, but the run still succeeds (status 0).
-#include "core/atomic_file.h"
-#include "core/interrupt.h"
-#include "core/options_io.h"
-#include "core/path_tracer.h"
-#include "core/probes.h"
-#include "core/progress.h"
-#include "core/scene_loader.h"
-#include "core/stats_json.h"
+#include "core/base/atomic_file.h"
+#include "core/base/interrupt.h"
+#include "core/base/progress.h"
+#include "core/config/options_io.h"
+#include "core/output/stats_json.h"
+#include "core/reference/path_tracer.h"
+#include "core/scene/probes.h"
+#include "core/scene/scene_loader.h"
 #include "experiments/commands.h"
 
 #include <fmt/format.h>

@@ -1,5 +1,5 @@
 // `hrad scenes`: the built-in scenes with their parameters, and the scene file formats.
-#include "core/builtin_scenes.h"
+#include "core/scene/builtin_scenes.h"
 #include "experiments/commands.h"
 
 #include <fmt/format.h>
@@ -45,7 +45,7 @@ void print_scenes() {
       "            in [0,1]; above 1 is an error), Ke is read as emitted radiance, so the\n"
       "            exitance is pi * Ke. Planar convex polygons are kept, others triangulated.\n"
       "  FILE.mgf  Materials and Geometry Format 1.1 (RenderPark, Radiance): CIE colours\n"
-      "            and rd / ed converted to RGB as documented in core/mgf_color.h.\n"
+      "            and rd / ed converted to RGB as documented in core/scene/mgf/mgf_color.h.\n"
       "See README.md, 'Scene formats', for the details.\n");
 }
 

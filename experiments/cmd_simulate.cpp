@@ -22,9 +22,9 @@
 // | --measured      | STATS     | none (repeatable)       | stats.json of real runs to compare with |
 // | --out           | FILE.csv  | none                    | write the rows as CSV (atomically)      |
 // | --quiet         |           | off                     | no progress line                        |
-#include "core/atomic_file.h"
-#include "core/progress.h"
-#include "core/trace.h"
+#include "core/base/atomic_file.h"
+#include "core/base/progress.h"
+#include "core/parallel/trace.h"
 #include "experiments/commands.h"
 #include "experiments/sim/simulator.h"
 

@@ -13,23 +13,23 @@
 //      each written atomically. stats.json lists the files actually written and, if
 //      one failed, the error. A run that fails before writing anything removes the
 //      folder if it created it.
-#include "core/auto_camera.h"
-#include "core/camera_spec.h"
-#include "core/clock.h"
-#include "core/input_error.h"
-#include "core/interrupt.h"
-#include "core/json_input.h"
-#include "core/options_io.h"
-#include "core/pfm.h"
-#include "core/ply_writer.h"
-#include "core/probes.h"
-#include "core/provenance.h"
-#include "core/progress.h"
-#include "core/render.h"
-#include "core/scene_loader.h"
-#include "core/solver.h"
-#include "core/stats_json.h"
-#include "core/topology.h"
+#include "core/base/clock.h"
+#include "core/base/input_error.h"
+#include "core/base/interrupt.h"
+#include "core/base/json_input.h"
+#include "core/base/progress.h"
+#include "core/base/provenance.h"
+#include "core/config/options_io.h"
+#include "core/output/auto_camera.h"
+#include "core/output/pfm.h"
+#include "core/output/ply_writer.h"
+#include "core/output/render.h"
+#include "core/output/stats_json.h"
+#include "core/parallel/topology.h"
+#include "core/scene/camera_spec.h"
+#include "core/scene/probes.h"
+#include "core/scene/scene_loader.h"
+#include "core/solver/solver.h"
 #include "experiments/commands.h"
 #include "experiments/harness/manifest.h"
 
@@ -52,7 +52,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // The flags that set one SolverOptions key each. Their help text comes from the key
-// table (core/options_io.cpp) plus the default, so the two cannot drift apart.
+// table (core/config/options_io.cpp) plus the default, so the two cannot drift apart.
 struct OptionFlag {
   const char* flag;
   const char* key;

@@ -1,6 +1,6 @@
 // `hrad topology`: the machine as hwloc sees it (honours HWLOC_SYNTHETIC / HWLOC_XMLFILE).
-#include "core/pin_plan.h"
-#include "core/topology.h"
+#include "core/parallel/pin_plan.h"
+#include "core/parallel/topology.h"
 #include "experiments/commands.h"
 
 #include <fmt/format.h>

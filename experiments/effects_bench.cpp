@@ -1,5 +1,5 @@
 // hrad_effects_bench: the time each "effects follow the scene" shortcut saves
-// (core/effects.h), on a scene where it applies: the same solve with
+// (core/config/effects.h), on a scene where it applies: the same solve with
 // `effects = all` (every effect computed) and with `effects = auto`, best wall time
 // of N runs each, plus rays, sweeps, iterations and the largest relative radiosity
 // difference between the two (when both meshes agree).
@@ -11,9 +11,9 @@
 // of iterations it allows), the office with every material made grey (its channels'
 // mean: colour), the Cornell box without emission (emission), and the office with
 // shaft culling on against off (both with effects = auto).
-#include "core/builtin_scenes.h"
-#include "core/clock.h"
-#include "core/solver.h"
+#include "core/base/clock.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/solver.h"
 
 #include <fmt/format.h>
 

@@ -1,7 +1,7 @@
 // hrad: the command-line front end. Subcommands live in cmd_*.cpp (see commands.h).
 #include "experiments/commands.h"
 
-#include "core/interrupt.h"
+#include "core/base/interrupt.h"
 
 #include <fmt/format.h>
 
@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
   CLI::App app{"hrad: a testbed for parallel hierarchical radiosity with clustering.", "hrad"};
   app.set_version_flag("--version", version_string());
   app.require_subcommand(1);
-  // SIGINT and SIGTERM stop long commands at a safe point (core/interrupt.h).
+  // SIGINT and SIGTERM stop long commands at a safe point (core/base/interrupt.h).
   hrad::install_interrupt_handlers();
   register_solve(app, ctx);
   register_experiment(app, ctx);

@@ -5,7 +5,7 @@
 // receiver_threshold); a link with a cluster end that is partly or wholly occluded
 // counts kOccludedClusterWeight times (oracles/oracle.h). Element size
 // limits (min_area) are applied by the refiner, for every oracle alike.
-#include "core/element.h"
+#include "core/hierarchy/element.h"
 #include "oracles/oracle.h"
 
 namespace hrad {

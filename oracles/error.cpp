@@ -7,7 +7,7 @@
 // the link) and 0 when the pair is fully visible or fully hidden. Clusters carry
 // no spread estimate; for them the whole F counts as uncertain, weighted as in `bf`
 // when they are occluded (oracles/oracle.h).
-#include "core/element.h"
+#include "core/hierarchy/element.h"
 #include "oracles/oracle.h"
 
 namespace hrad {

@@ -1,7 +1,7 @@
 // What every oracle weighs a link's error by: the power it reflects, and the
 // occlusion weight of links with a cluster end; and the threshold it is compared
 // with, scaled for dark receivers (oracles/oracle.h).
-#include "core/element.h"
+#include "core/hierarchy/element.h"
 #include "oracles/oracle.h"
 
 #include <algorithm>

@@ -5,7 +5,7 @@
 // order in which tasks were examined.
 #pragma once
 
-#include "core/geometry.h"
+#include "core/base/geometry.h"
 
 #include <functional>
 #include <memory>

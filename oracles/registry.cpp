@@ -1,5 +1,5 @@
 // The oracle registry: name -> factory, filled by each oracle's file.
-#include "core/element.h"
+#include "core/hierarchy/element.h"
 #include "oracles/oracle.h"
 
 #include <fmt/format.h>

@@ -38,7 +38,7 @@
 // instead of two. The lock's line moves between the cores at most once per block: on
 // builtin:lab at 2 threads, block 10, the two visits made CPU per task 11 % higher than
 // at 1 thread (1 % at block 100, with ten times fewer visits).
-#include "core/timed_lock.h"
+#include "core/parallel/timed_lock.h"
 #include "schedulers/chunk_stack.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"

@@ -6,7 +6,7 @@
 // instrumentation costs nothing on the uncontended path.
 #pragma once
 
-#include "core/timed_lock.h"
+#include "core/parallel/timed_lock.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
 

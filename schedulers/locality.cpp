@@ -1,6 +1,6 @@
 // `locality`: the paper's blocked central pool, split into one pool per NUMA node.
 // A task goes to the pool of the node its receiver's memory is on (Element::home_node,
-// as the arenas count it, core/node_arena.h); a refiner takes a block from its own
+// as the arenas count it, core/parallel/node_arena.h); a refiner takes a block from its own
 // node's pool first and only when that is empty from the others, starting with the
 // next node up, so receivers (the elements a task writes links to and subdivides)
 // tend to be refined by a refiner on their node.
@@ -20,8 +20,8 @@
 //
 // With numa_nodes == 1 the receiver is never dereferenced (the scheduler tests use
 // fake receiver pointers).
-#include "core/element.h"
-#include "core/timed_lock.h"
+#include "core/hierarchy/element.h"
+#include "core/parallel/timed_lock.h"
 #include "schedulers/chunk_stack.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"

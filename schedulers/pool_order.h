@@ -16,7 +16,7 @@
 // elements; `submitted` and `address` never dereference it.
 #pragma once
 
-#include "core/element.h"
+#include "core/hierarchy/element.h"
 #include "schedulers/scheduler.h"
 
 #include <algorithm>

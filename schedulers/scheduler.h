@@ -2,7 +2,7 @@
 //
 // A task is a candidate link r <- s. Refiners (worker ids 0..threads-1) take up to
 // a block of tasks, refine them, and submit the tasks they created in one call.
-// The driver (core/refiner.cpp) owns termination: it counts tasks submitted but not
+// The driver (core/solver/refiner.cpp) owns termination: it counts tasks submitted but not
 // finished, so a scheduler only has to hand out what it holds.
 //
 // Contract for every scheduler:
@@ -33,7 +33,7 @@ struct Task {
   float visibility = 1;
   float priority = 0;     ///< oracle error estimate (largest first for `priority`)
   bool evaluated = false; ///< true for links reloaded from the previous iteration
-  std::uint64_t id = 0;   ///< trace id (see core/trace.h); set by the refinement driver
+  std::uint64_t id = 0;   ///< trace id (see core/parallel/trace.h); set by the refinement driver
 };
 
 /// How a central pool orders each submitted batch before it enters the pool

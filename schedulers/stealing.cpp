@@ -36,7 +36,7 @@
 // Lock waits: takes never wait (the inbox is only try_lock'ed); only submits from a
 // non-owner thread can wait for the inbox lock (timed_lock, as the central schedulers:
 // a short spin, then sleep), and those waits are what lock_wait_s reports (normally 0).
-#include "core/timed_lock.h"
+#include "core/parallel/timed_lock.h"
 #include "schedulers/scheduler.h"
 #include "schedulers/ws_deque.h"
 

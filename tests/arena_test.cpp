@@ -1,11 +1,11 @@
-// Placement arenas (core/node_arena.h) and the hierarchy's use of them: memory is
+// Placement arenas (core/parallel/node_arena.h) and the hierarchy's use of them: memory is
 // handed out by the right refiner's arena, counted on the node the placement
 // promises, and binding is applied on this machine and only planned on a synthetic
 // topology.
-#include "core/builtin_scenes.h"
-#include "core/hierarchy.h"
-#include "core/node_arena.h"
-#include "core/topology.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/parallel/node_arena.h"
+#include "core/parallel/topology.h"
+#include "core/scene/builtin_scenes.h"
 #include "tests/env_guard.h"
 
 #include <gtest/gtest.h>

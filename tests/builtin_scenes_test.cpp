@@ -1,7 +1,7 @@
-#include "core/builtin_scenes.h"
+#include "core/scene/builtin_scenes.h"
 
-#include "core/builtin/shapes.h"
-#include "core/input_error.h"
+#include "core/base/input_error.h"
+#include "core/scene/builtin/shapes.h"
 
 #include <gtest/gtest.h>
 

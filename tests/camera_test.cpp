@@ -1,11 +1,11 @@
-// Cameras: the --camera spec and the view file (core/camera_spec.h), and the automatic
-// camera (core/auto_camera.h).
-#include "core/auto_camera.h"
-#include "core/builtin_scenes.h"
-#include "core/camera_spec.h"
-#include "core/input_error.h"
-#include "core/render.h"
-#include "core/scene_loader.h"
+// Cameras: the --camera spec and the view file (core/scene/camera_spec.h), and the automatic
+// camera (core/output/auto_camera.h).
+#include "core/base/input_error.h"
+#include "core/output/auto_camera.h"
+#include "core/output/render.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/scene/camera_spec.h"
+#include "core/scene/scene_loader.h"
 #include "tests/thick_box.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "core/cie_observer.h"
+#include "core/scene/mgf/cie_observer.h"
 
 #include <gtest/gtest.h>
 

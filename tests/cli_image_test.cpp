@@ -1,7 +1,7 @@
 // End-to-end tests of the image options of `hrad solve`: --hdr (a Portable Float Map of
 // the radiance), --exposure (stops over the automatic exposure), --shading, and the
 // "image" block of stats.json.
-#include "core/pfm.h"
+#include "core/output/pfm.h"
 #include "tests/cli_fixture.h"
 #include "tests/read_text.h"
 

@@ -1,11 +1,11 @@
 // Convergence against an independent reference: the Cornell box's probe error,
-// measured against the path tracer (core/path_tracer.h, which shares no code with the
+// measured against the path tracer (core/reference/path_tracer.h, which shares no code with the
 // hierarchical solver), falls at each of four successive halvings of eps from the
 // default, and the solution is unbiased to within 1 % at each of them.
-#include "core/builtin_scenes.h"
-#include "core/path_tracer.h"
-#include "core/probes.h"
-#include "core/solver.h"
+#include "core/reference/path_tracer.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/scene/probes.h"
+#include "core/solver/solver.h"
 
 #include <gtest/gtest.h>
 

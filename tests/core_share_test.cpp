@@ -1,5 +1,5 @@
 // How worker ranks on one host split its CPUs (experiments/harness/core_share.h).
-#include "core/pin_plan.h"
+#include "core/parallel/pin_plan.h"
 #include "experiments/harness/core_share.h"
 
 #include <gtest/gtest.h>

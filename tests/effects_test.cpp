@@ -1,16 +1,16 @@
-// Effects follow the scene (core/effects.h, core/shaft.h): every shortcut gives
+// Effects follow the scene (core/config/effects.h, core/transport/shaft.h): every shortcut gives
 // the same radiosity as the full computation (`effects = all`) to 1e-9 relative,
 // and its counter shows the work it saved.
-#include "core/builtin_scenes.h"
-#include "core/effects.h"
-#include "core/hierarchy.h"
-#include "core/options_io.h"
-#include "core/propagation.h"
-#include "core/ray_scene.h"
-#include "core/shaft.h"
-#include "core/solver.h"
-#include "core/stats_json.h"
-#include "core/transport.h"
+#include "core/config/effects.h"
+#include "core/config/options_io.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/output/stats_json.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/propagation.h"
+#include "core/solver/solver.h"
+#include "core/transport/shaft.h"
+#include "core/transport/transport.h"
 #include "tests/solver_test_util.h"
 
 #include <fmt/format.h>
@@ -167,7 +167,7 @@ TEST(EffectsShortcut, ConvexEnclosureCastsNoRays) {
   o.gather_tolerance = 1e-10;
   // The links settle after iteration 3, where the fast run would stop (its answer is
   // then that of a 3-iteration run) and the full one go on; a 4th iteration's push
-  // weights come from other radiosities (core/push_weights.h), so the two would differ
+  // weights come from other radiosities (core/solver/push_weights.h), so the two would differ
   // by 1e-7. Both run 3 here.
   o.iterations = 3;
   const Solved fast = solve(scene, o, "auto");
@@ -181,7 +181,7 @@ TEST(EffectsShortcut, ConvexEnclosureCastsNoRays) {
   EXPECT_EQ(fast.stats.totals.rays_cast, escape);
   EXPECT_GT(fast.stats.totals.rays_skipped, full.stats.totals.rays_skipped);
   // Every visibility ray the full run cast was skipped (same links, same pairs). The
-  // full run also looks for closed-in parts (core/open_fraction.h), which a convex
+  // full run also looks for closed-in parts (core/transport/open_fraction.h), which a convex
   // enclosure cannot have: the fast run casts no such ray.
   std::uint64_t open_rays = 0;
   for (const IterationStats& it : full.stats.iterations) open_rays += it.open_rays;

@@ -1,10 +1,10 @@
-// Tests of the error metrics (core/error_metrics.h) and of reading solution.ply back
-// (core/ply_reader.h), on hand-made inputs with known answers; and of the `reference`
+// Tests of the error metrics (core/reference/error_metrics.h) and of reading solution.ply back
+// (core/scene/ply_reader.h), on hand-made inputs with known answers; and of the `reference`
 // and `compare` commands end to end.
-#include "core/error_metrics.h"
-#include "core/input_error.h"
-#include "core/ply_reader.h"
-#include "core/ply_writer.h"
+#include "core/base/input_error.h"
+#include "core/output/ply_writer.h"
+#include "core/reference/error_metrics.h"
+#include "core/scene/ply_reader.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,8 +1,8 @@
 // Sweep expansion (order, counts, options of each point) and the flat rows of
 // runs.csv / iterations.csv made from RunStats.
-#include "core/stat_fields.h"
-#include "core/options_io.h"
-#include "core/stats_json.h"
+#include "core/config/options_io.h"
+#include "core/output/stat_fields.h"
+#include "core/output/stats_json.h"
 #include "experiments/harness/run_rows.h"
 #include "experiments/harness/sweep.h"
 
@@ -122,7 +122,7 @@ TEST(ExperimentRows, ColumnsAndValues) {
   EXPECT_EQ(r.iterations[0][column_index(ic, "lock_wait_total_s")], "0.875");
 }
 
-// stats.json and iterations.csv are written from one table (core/stat_fields.h):
+// stats.json and iterations.csv are written from one table (core/output/stat_fields.h):
 // every scalar of an iteration in stats.json is a CSV column with the same value, and
 // every CSV figure column is in the table.
 TEST(ExperimentRows, EveryIterationScalarOfStatsJsonIsACsvColumn) {

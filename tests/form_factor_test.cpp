@@ -1,7 +1,7 @@
 // Form-factor estimators against closed forms (Howell's catalogue of configuration
 // factors, re-derived here as reference functions), reciprocity, closure, and the hard
 // cases: points on or near the source, horizon clipping, slivers, degenerate polygons.
-#include "core/form_factor.h"
+#include "core/transport/form_factor.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "core/geometry.h"
+#include "core/base/geometry.h"
 
 #include <gtest/gtest.h>
 

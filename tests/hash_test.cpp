@@ -1,6 +1,6 @@
-// core/hash.h: splitmix64 gives the reference generator's outputs (Vigna's splitmix64.c
+// core/base/hash.h: splitmix64 gives the reference generator's outputs (Vigna's splitmix64.c
 // from state 0), so every random stream built on it stays what it was.
-#include "core/hash.h"
+#include "core/base/hash.h"
 
 #include <gtest/gtest.h>
 

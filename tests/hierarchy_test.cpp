@@ -1,7 +1,7 @@
-#include "core/builtin_scenes.h"
-#include "core/hierarchy.h"
-#include "core/ray_scene.h"
-#include "core/transport.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/transport/transport.h"
 #include "tests/solver_test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
-// Link lists (core/link_list.h) and the hierarchy's link arenas: links keep their
+// Link lists (core/hierarchy/link_list.h) and the hierarchy's link arenas: links keep their
 // order, blocks grow geometrically and never move while stored, compaction leaves one
 // full block, the memory is counted on the node of the refiner that stored (and
 // compacted) the links, and release_links() hands it out again.
-#include "core/builtin_scenes.h"
-#include "core/hierarchy.h"
-#include "core/link_list.h"
-#include "core/node_arena.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/hierarchy/link_list.h"
+#include "core/parallel/node_arena.h"
+#include "core/scene/builtin_scenes.h"
 
 #include <gtest/gtest.h>
 

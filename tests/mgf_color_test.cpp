@@ -2,9 +2,9 @@
 // cct), cmix, gamut mapping, and the ies rule. Expected RGB values were computed by
 // hand (exact rational arithmetic for the Rec. 709 / white E matrix, trapezoid sums of
 // the CIE 5 nm table), independently of hrad's code.
-#include "core/input_error.h"
-#include "core/mgf_color.h"
-#include "core/mgf_reader.h"
+#include "core/base/input_error.h"
+#include "core/scene/mgf/mgf_color.h"
+#include "core/scene/mgf/mgf_reader.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
-#include "core/mgf_reader.h"
+#include "core/scene/mgf/mgf_reader.h"
 
-#include "core/input_error.h"
-#include "core/mgf_color.h"
-#include "core/mgf_segments.h"
-#include "core/mgf_shapes.h"
+#include "core/base/input_error.h"
+#include "core/scene/mgf/mgf_color.h"
+#include "core/scene/mgf/mgf_segments.h"
+#include "core/scene/mgf/mgf_shapes.h"
 
 #include <gtest/gtest.h>
 

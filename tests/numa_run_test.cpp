@@ -2,11 +2,11 @@
 // exactly once), and solves on hwloc's synthetic two-node topology that report the
 // planned bindings, bytes per node and local-access ratios, with the links of the
 // sequential run.
-#include "core/builtin_scenes.h"
-#include "core/element.h"
-#include "core/solver.h"
-#include "core/stats_json.h"
-#include "core/topology.h"
+#include "core/hierarchy/element.h"
+#include "core/output/stats_json.h"
+#include "core/parallel/topology.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/solver.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
 #include "tests/env_guard.h"
@@ -65,7 +65,7 @@ TEST(SchedLocality, ServesTheRefinersOwnNodeFirst) {
 }
 
 // Exactly once on three nodes: a task tree (task i creates children 3i+1..3i+3 below
-// kTasks), receivers spread over the nodes, four refiners driven as core/refiner.cpp
+// kTasks), receivers spread over the nodes, four refiners driven as core/solver/refiner.cpp
 // drives them.
 TEST(SchedLocality, EveryTaskExactlyOnceOnThreeNodes) {
   constexpr std::uint64_t kTasks = 30000;

@@ -1,4 +1,4 @@
-#include "core/obj_reader.h"
+#include "core/scene/obj_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <numbers>
 #include <sstream>
 
-#include "core/input_error.h"
-#include "core/scene_loader.h"
+#include "core/base/input_error.h"
+#include "core/scene/scene_loader.h"
 
 namespace hrad {
 namespace {

@@ -1,9 +1,9 @@
-// Open fractions (core/open_fraction.h): the parts of faces closed in by contacts.
-#include "core/builtin_scenes.h"
-#include "core/hierarchy.h"
-#include "core/lock_pool.h"
-#include "core/open_fraction.h"
-#include "core/ray_scene.h"
+// Open fractions (core/transport/open_fraction.h): the parts of faces closed in by contacts.
+#include "core/hierarchy/hierarchy.h"
+#include "core/parallel/lock_pool.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/transport/open_fraction.h"
 
 #include <gtest/gtest.h>
 

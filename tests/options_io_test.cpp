@@ -1,4 +1,4 @@
-#include "core/options_io.h"
+#include "core/config/options_io.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

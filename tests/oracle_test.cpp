@@ -1,7 +1,7 @@
 // The oracles' link error: the occlusion weight of links with a cluster end
 // (oracles/oracle.h) and the directional cluster model's sums (add_by_axis in
-// core/element.h) that those links' form factors come from.
-#include "core/element.h"
+// core/hierarchy/element.h) that those links' form factors come from.
+#include "core/hierarchy/element.h"
 #include "oracles/oracle.h"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
-// Tests of the Monte Carlo reference (core/path_tracer.h): closed forms, the furnace,
+// Tests of the Monte Carlo reference (core/reference/path_tracer.h): closed forms, the furnace,
 // agreement with the hierarchical solver on the Cornell box, determinism, and the
 // standard error's honesty and 1/sqrt(N) decay.
-#include "core/builtin_scenes.h"
-#include "core/path_tracer.h"
-#include "core/scene_builder.h"
-#include "core/solver.h"
+#include "core/reference/path_tracer.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/scene/scene_builder.h"
+#include "core/solver/solver.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

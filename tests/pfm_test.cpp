@@ -1,6 +1,6 @@
-// Portable Float Map output (core/pfm.h): header, byte order, row order, round trip
+// Portable Float Map output (core/output/pfm.h): header, byte order, row order, round trip
 // and errors.
-#include "core/pfm.h"
+#include "core/output/pfm.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// Pinning plans (core/pin_plan.h) on topologies described by hand and on hwloc's
+// Pinning plans (core/parallel/pin_plan.h) on topologies described by hand and on hwloc's
 // synthetic topologies: each policy puts refiners where it promises.
-#include "core/pin_plan.h"
-#include "core/topology.h"
+#include "core/parallel/pin_plan.h"
+#include "core/parallel/topology.h"
 #include "tests/env_guard.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
-#include "core/probes.h"
+#include "core/scene/probes.h"
 
-#include "core/builtin_scenes.h"
-#include "core/input_error.h"
-#include "core/scene.h"
+#include "core/base/input_error.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/scene/scene.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-// The propagation's stopping rules (core/propagation.h) on two facing squares whose
+// The propagation's stopping rules (core/solver/propagation.h) on two facing squares whose
 // links are set by hand: each square gathers F of the other's radiosity, so every
 // sweep is B <- E + rho F B_other and the answer is known in closed form. With both
 // squares alike, B_k = E (1 + q + ... + q^k) after k sweeps from B_0 = E (q = rho F),
 // which converges to E / (1 - q) when q < 1 and grows without bound when q >= 1.
-#include "core/propagation.h"
-#include "core/hierarchy.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/solver/propagation.h"
 #include "tests/solver_test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
-// Push weights (core/push_weights.h): how an element's irradiance is shared among its
+// Push weights (core/solver/push_weights.h): how an element's irradiance is shared among its
 // children. Checked on the empty furnace room (six walls, each one input polygon).
-#include "core/builtin_scenes.h"
-#include "core/hierarchy.h"
-#include "core/lock_pool.h"
-#include "core/push_weights.h"
-#include "core/ray_scene.h"
-#include "core/transport.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/parallel/lock_pool.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/push_weights.h"
+#include "core/transport/transport.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-#include "core/ray_scene.h"
+#include "core/raycast/ray_scene.h"
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 #include <gtest/gtest.h>
 

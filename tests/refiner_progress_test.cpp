@@ -1,14 +1,14 @@
 // Progress during a refinement stage (Refiner::set_progress) and through a whole run
 // (the Solver's ProgressFn): the line must move while a stage runs, not only between
 // stages.
-#include "core/builtin_scenes.h"
-#include "core/hierarchy.h"
-#include "core/lock_pool.h"
-#include "core/progress.h"
-#include "core/ray_scene.h"
-#include "core/refiner.h"
-#include "core/solver.h"
-#include "core/transport.h"
+#include "core/base/progress.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/parallel/lock_pool.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/refiner.h"
+#include "core/solver/solver.h"
+#include "core/transport/transport.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 

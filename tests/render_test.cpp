@@ -1,8 +1,8 @@
-#include "core/render.h"
+#include "core/output/render.h"
 
-#include "core/ply_writer.h"
-#include "core/render_mesh.h"
-#include "core/scene.h"
+#include "core/output/ply_writer.h"
+#include "core/scene/render_mesh.h"
+#include "core/scene/scene.h"
 #include "tests/read_text.h"
 
 #include <gtest/gtest.h>

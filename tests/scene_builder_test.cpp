@@ -1,4 +1,4 @@
-#include "core/scene_builder.h"
+#include "core/scene/scene_builder.h"
 
 #include <gtest/gtest.h>
 

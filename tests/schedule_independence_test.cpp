@@ -2,8 +2,8 @@
 // while refining), so every scheduler at every thread count must produce exactly
 // the links and elements of the sequential run, and the same radiosity up to
 // summation order.
-#include "core/builtin_scenes.h"
-#include "core/solver.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/solver.h"
 #include "schedulers/scheduler.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Every registered scheduler, driven the way core/refiner.cpp drives it (an OpenMP team,
+// Every registered scheduler, driven the way core/solver/refiner.cpp drives it (an OpenMP team,
 // a pending counter for termination), on a synthetic task tree whose task ids are encoded
 // in the receiver pointer bits (never dereferenced).
 #include "schedulers/scheduler.h"

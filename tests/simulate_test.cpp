@@ -4,7 +4,7 @@
 // once, one processor with free scheduling takes exactly the summed durations, and
 // work stealing scales on a balanced tree. Plus the trace file round trip, the DAG's
 // critical path, bad input, and `hrad simulate` end to end.
-#include "core/trace.h"
+#include "core/parallel/trace.h"
 #include "experiments/sim/simulator.h"
 #include "schedulers/scheduler.h"
 
@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 const Policy kAllPolicies[] = {Policy::kStack, Policy::kFifo, Policy::kPriority, Policy::kBlocked,
                                Policy::kStealing};
 
-/// Builds trace records the way core/refiner.cpp numbers tasks.
+/// Builds trace records the way core/solver/refiner.cpp numbers tasks.
 class TraceBuilder {
  public:
   explicit TraceBuilder(int iteration = 1) : iteration_(static_cast<std::uint8_t>(iteration)) {}

@@ -1,11 +1,11 @@
-// Smooth and flat shading of leaf elements (core/smooth_shading.h): continuity across
+// Smooth and flat shading of leaf elements (core/output/smooth_shading.h): continuity across
 // leaves of different depth and across polygons of one surface, constants stay
 // constant, creases and materials stay sharp, and a solved scene has no T-vertices.
-#include "core/smooth_shading.h"
+#include "core/output/smooth_shading.h"
 
-#include "core/builtin_scenes.h"
-#include "core/render.h"
-#include "core/solver.h"
+#include "core/output/render.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/solver.h"
 
 #include <gtest/gtest.h>
 
@@ -43,7 +43,7 @@ struct Patches {
   }
 };
 
-/// The four children of a quad as the hierarchy makes them (core/hierarchy.cpp): per
+/// The four children of a quad as the hierarchy makes them (core/hierarchy/hierarchy.cpp): per
 /// corner, the corner, the next edge's midpoint, the centre, the previous edge's midpoint.
 std::array<std::vector<Vec3>, 4> split(const std::vector<Vec3>& c) {
   const Vec3 centre = (c[0] + c[1] + c[2] + c[3]) / 4.0;

@@ -1,8 +1,8 @@
 // End-to-end tests of the hierarchical solver on scenes with known answers.
-#include "core/builtin_scenes.h"
-#include "core/interrupt.h"
-#include "core/probes.h"
-#include "core/solver.h"
+#include "core/base/interrupt.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/scene/probes.h"
+#include "core/solver/solver.h"
 #include "schedulers/scheduler.h"
 #include "tests/read_text.h"
 #include "tests/solver_test_util.h"
@@ -94,7 +94,7 @@ TEST(SolverFurnace, RawTransportConservesEnergyOnAverage) {
 // a closed room with a cube and an octahedron floating in it, and the same room
 // empty: the mean leaf row sum is 1 to 1e-3 and the area-weighted mean radiosity is
 // within 1 % of E / (1 - rho) = 10 (measured -0.5 % and -0.2 %). Before push weights
-// (core/push_weights.h) the leaves' row sums spread over 0.83-1.44 (a corner leaf
+// (core/solver/push_weights.h) the leaves' row sums spread over 0.83-1.44 (a corner leaf
 // inherited its ancestors' mean form factor to the nearby walls), which 1 / (1 - rho S)
 // turned into a surplus of 4.3 % (room with objects) and 4.7 % (empty room); with push
 // weights from an element's own links only, +1.0 % and +1.4 %.
@@ -407,7 +407,7 @@ namespace {
 // its members but must not change the total: after one sweep from B = E, the
 // power gathered by all leaves is the same in both modes, while some leaves differ.
 // (A scene without contacts: where part of a member is closed in, what it gathers is
-// per unit of open area, core/open_fraction.h, and a leaf's area alone would not
+// per unit of open area, core/transport/open_fraction.h, and a leaf's area alone would not
 // weigh it.)
 TEST(SolverClusterReceiver, CosineRedistributesButConservesGatheredPower) {
   const Scene scene = make_builtin("builtin:furnace?objects=1&rho=0.5");
@@ -509,7 +509,7 @@ TEST(SolverAccuracy, OfficeAtDefaultsIsNotDark) {
 }
 
 
-// An interrupt (core/interrupt.h) unwinds a run at its first safe point, with two
+// An interrupt (core/base/interrupt.h) unwinds a run at its first safe point, with two
 // refiners as with one, and leaves nothing that stops the next run.
 TEST(SolverInterrupt, StopsAtTheFirstSafePointAndTheNextRunIsWhole) {
   const Scene scene = make_builtin("builtin:cornell");

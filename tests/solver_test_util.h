@@ -1,7 +1,7 @@
 // Small scenes built in code for solver tests.
 #pragma once
 
-#include "core/scene_builder.h"
+#include "core/scene/scene_builder.h"
 
 namespace hrad::test {
 

@@ -1,6 +1,6 @@
-#include "core/stats_json.h"
+#include "core/output/stats_json.h"
 
-#include "core/scene_builder.h"
+#include "core/scene/scene_builder.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,10 +1,10 @@
-// timed_lock and LockPool's wait counters (core/timed_lock.h, core/lock_pool.h): an
+// timed_lock and LockPool's wait counters (core/parallel/timed_lock.h, core/parallel/lock_pool.h): an
 // acquisition that finds the mutex free adds exactly nothing; one that has to wait adds
 // its wait (more than 0, at most the time the call took) and counts one contention, on
 // the waiting worker's counter only.
-#include "core/timed_lock.h"
-#include "core/clock.h"
-#include "core/lock_pool.h"
+#include "core/base/clock.h"
+#include "core/parallel/lock_pool.h"
+#include "core/parallel/timed_lock.h"
 
 #include <gtest/gtest.h>
 

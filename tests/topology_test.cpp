@@ -1,4 +1,4 @@
-#include "core/topology.h"
+#include "core/parallel/topology.h"
 #include "tests/env_guard.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
-#include "core/builtin_scenes.h"
-#include "core/solver.h"
-#include "core/trace.h"
+#include "core/parallel/trace.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/solver.h"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
-// Accuracy of the transport estimates (core/transport.h) against exact values: the
+// Accuracy of the transport estimates (core/transport/transport.h) against exact values: the
 // visibility estimate must be the occluded share of the transport (not of the point
 // pairs), and the cluster form factor must match the sum over the members where
 // cluster links are accepted.
-#include "core/form_factor.h"
-#include "core/hierarchy.h"
-#include "core/ray_scene.h"
-#include "core/scene.h"
-#include "core/transport.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/scene.h"
+#include "core/transport/form_factor.h"
+#include "core/transport/transport.h"
 #include "tests/solver_test_util.h"
 
 #include <gtest/gtest.h>

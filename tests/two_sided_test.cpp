@@ -1,16 +1,16 @@
-// Two-sided faces (core/back_faces.h, core/face_twins.h): back faces, twins in the ray
+// Two-sided faces (core/scene/back_faces.h, core/raycast/face_twins.h): back faces, twins in the ray
 // scene, and the physics of a two-sided plate between a lit and a dark cell, in the
 // solver and in the path-traced reference.
-#include "core/back_faces.h"
-#include "core/face_twins.h"
-#include "core/mgf_reader.h"
-#include "core/path_tracer.h"
-#include "core/probes.h"
-#include "core/ray_scene.h"
-#include "core/scene_builder.h"
-#include "core/scene_loader.h"
-#include "core/solver.h"
-#include "core/stats_json.h"
+#include "core/output/stats_json.h"
+#include "core/raycast/face_twins.h"
+#include "core/raycast/ray_scene.h"
+#include "core/reference/path_tracer.h"
+#include "core/scene/back_faces.h"
+#include "core/scene/mgf/mgf_reader.h"
+#include "core/scene/probes.h"
+#include "core/scene/scene_builder.h"
+#include "core/scene/scene_loader.h"
+#include "core/solver/solver.h"
 
 #include <gtest/gtest.h>
 

@@ -1,14 +1,15 @@
-// Grazing self-hits (core/ray_scene.h, core/transport.cpp): a segment from a point on
+// Grazing self-hits (core/raycast/ray_scene.h, core/transport/transport.cpp): a segment from a point on
 // a polygon (or within single precision of it) that skims along that polygon must not
 // be reported blocked by it. Visibility queries ignore the polygons their end points
 // lie on; a real blocker between them still blocks.
-#include "core/builtin_scenes.h"
-#include "core/hierarchy.h"
-#include "core/lock_pool.h"
-#include "core/ray_scene.h"
-#include "core/scene.h"
-#include "core/shaft.h"
-#include "core/transport.h"
+#include "core/base/hash.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/parallel/lock_pool.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/scene/scene.h"
+#include "core/transport/shaft.h"
+#include "core/transport/transport.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 #include "experiments/harness/accuracy.h"
 
-#include "core/atomic_file.h"
-#include "core/clock.h"
-#include "core/path_tracer.h"
-#include "core/solver.h"
+#include "core/base/atomic_file.h"
+#include "core/base/clock.h"
+#include "core/reference/path_tracer.h"
+#include "core/solver/solver.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -1,16 +1,16 @@
 // Probe error of experiment runs (the experiment config's `accuracy` block, issue 7).
 //
 // Per scene, once: the probes of accuracy.probes and a path-traced reference at them
-// (core/path_tracer.h, to accuracy.reference_rel_error), cached in the result folder as
+// (core/reference/path_tracer.h, to accuracy.reference_rel_error), cached in the result folder as
 // reference-<scene>.csv (the columns of `hrad reference`'s probes.csv, SE included) and
 // reference-<scene>.json (options, time, convergence). A resumed experiment reads the
 // cached file back instead of tracing again. Per run: Solver::probe_irradiance at the
-// probes, compared by compare_probes (core/error_metrics.h) with the accuracy floor.
+// probes, compared by compare_probes (core/reference/error_metrics.h) with the accuracy floor.
 #pragma once
 
-#include "core/error_metrics.h"
-#include "core/probes.h"
-#include "core/scene.h"
+#include "core/reference/error_metrics.h"
+#include "core/scene/probes.h"
+#include "core/scene/scene.h"
 #include "experiments/harness/experiment_config.h"
 #include "experiments/harness/run_rows.h"
 

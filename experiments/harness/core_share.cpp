@@ -1,6 +1,6 @@
 #include "experiments/harness/core_share.h"
 
-#include "core/pin_plan.h"
+#include "core/parallel/pin_plan.h"
 
 #include <fmt/format.h>
 #include <sched.h>

@@ -1,7 +1,7 @@
 #include "experiments/harness/experiment_config.h"
 
-#include "core/json_input.h"
-#include "core/options_io.h"
+#include "core/base/json_input.h"
+#include "core/config/options_io.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 

@@ -8,7 +8,7 @@
 // | name         | string (required)        | results go to results/<name>/<stamp>/; [A-Za-z0-9_.-] |
 // | description  | string                   | one line for the manifest and the plot caption    |
 // | scenes       | list of strings (required)| scene specs as `hrad solve` takes them           |
-// | settings     | object                   | fixed SolverOptions keys (core/options.h)          |
+// | settings     | object                   | fixed SolverOptions keys (core/config/options.h)          |
 // | sweep        | object: key -> list      | option keys to vary; non-empty lists               |
 // | repetitions  | integer >= 1 (default 1) | runs of every point                               |
 // | quick        | object                   | what --quick changes: scenes, settings (merged),  |
@@ -21,7 +21,7 @@
 // and scenes are outermost. `//` and `/* */` comments are accepted.
 #pragma once
 
-#include "core/options.h"
+#include "core/config/options.h"
 
 #include <nlohmann/json.hpp>
 
@@ -48,9 +48,9 @@ struct QuickOverrides {
 };
 
 /// The `accuracy` block: after each run, irradiance at probe points (Solver::
-/// probe_irradiance) is compared with a path-traced reference (core/path_tracer.h,
+/// probe_irradiance) is compared with a path-traced reference (core/reference/path_tracer.h,
 /// computed once per scene and cached in the result folder as reference-<scene>.csv),
-/// by the probe metric of core/error_metrics.h. Keys:
+/// by the probe metric of core/reference/error_metrics.h. Keys:
 ///   probes               string (one file for every scene) or object: scene -> file.
 ///                        An object key matches a scene spec exactly, or its part
 ///                        before '?' (so "builtin:office" covers "builtin:office?desks=4").

@@ -1,8 +1,8 @@
 #include "experiments/harness/experiment_runner.h"
 
-#include "core/clock.h"
-#include "core/interrupt.h"
-#include "core/progress.h"
+#include "core/base/clock.h"
+#include "core/base/interrupt.h"
+#include "core/base/progress.h"
 #include "experiments/harness/accuracy.h"
 #include "experiments/harness/run_executor.h"
 #include "experiments/harness/task_cost.h"
@@ -70,7 +70,7 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
       }
     }
   } catch (const std::exception& e) {
-    // An interrupt (core/interrupt.h) lands here between runs or from inside a run's
+    // An interrupt (core/base/interrupt.h) lands here between runs or from inside a run's
     // solve; the run in progress wrote no row.
     folder.fail(e);
     throw;

@@ -1,9 +1,9 @@
 #include "experiments/harness/manifest.h"
 
-#include "core/atomic_file.h"
-#include "core/json_input.h"
-#include "core/provenance.h"
-#include "core/topology.h"
+#include "core/base/atomic_file.h"
+#include "core/base/json_input.h"
+#include "core/base/provenance.h"
+#include "core/parallel/topology.h"
 #include "experiments/harness/run_rows.h"
 
 #include <fmt/format.h>

@@ -14,12 +14,12 @@
 // blocks on a dead peer or spins a core while it waits.
 #include "experiments/harness/mpi_sweep.h"
 
-#include "core/clock.h"
-#include "core/interrupt.h"
-#include "core/scene_loader.h"
-#include "core/topology.h"
+#include "core/base/clock.h"
+#include "core/base/interrupt.h"
+#include "core/parallel/pin_plan.h"
+#include "core/parallel/topology.h"
+#include "core/scene/scene_loader.h"
 #include "experiments/harness/accuracy.h"
-#include "core/pin_plan.h"
 #include "experiments/harness/core_share.h"
 #include "experiments/harness/csv.h"
 #include "experiments/harness/run_dispatch.h"

@@ -1,6 +1,6 @@
 #include "experiments/harness/result_files.h"
 
-#include "core/atomic_file.h"
+#include "core/base/atomic_file.h"
 #include "experiments/harness/csv.h"
 
 #include <fmt/format.h>

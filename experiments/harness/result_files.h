@@ -5,7 +5,7 @@
 // flushed first, then the runs.csv row. Reopening a folder (resume) reads runs.csv,
 // checks its header against run_columns(), drops a last line that was cut off, drops
 // the iterations.csv rows of runs that have no runs.csv row, and rewrites both files
-// atomically (core/atomic_file.h) before appending again. Runs may land out of run
+// atomically (core/base/atomic_file.h) before appending again. Runs may land out of run
 // order (the ranks of an MPI sweep finish in any order); sort_by_run() puts both files
 // into run order at the end.
 #pragma once

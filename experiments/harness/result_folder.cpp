@@ -1,6 +1,6 @@
 #include "experiments/harness/result_folder.h"
 
-#include "core/interrupt.h"
+#include "core/base/interrupt.h"
 
 #include <fmt/format.h>
 

@@ -1,9 +1,10 @@
 #include "experiments/harness/run_executor.h"
 
-#include "core/clock.h"
-#include "core/progress.h"
-#include "core/scene_loader.h"
-#include "core/solver.h"
+#include "core/base/clock.h"
+#include "core/base/progress.h"
+#include "core/config/options_io.h"
+#include "core/scene/scene_loader.h"
+#include "core/solver/solver.h"
 #include "experiments/harness/manifest.h"
 
 #include <fmt/format.h>

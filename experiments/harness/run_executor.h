@@ -4,8 +4,8 @@
 // (experiment_runner.h) and every MPI worker rank (mpi_sweep.h) run runs through it.
 #pragma once
 
-#include "core/scene.h"
-#include "core/scene_loader.h"
+#include "core/scene/scene.h"
+#include "core/scene/scene_loader.h"
 #include "experiments/harness/accuracy.h"
 #include "experiments/harness/experiment_config.h"
 #include "experiments/harness/run_rows.h"

@@ -1,7 +1,7 @@
 #include "experiments/harness/run_rows.h"
 
-#include "core/stat_fields.h"
-#include "core/options_io.h"
+#include "core/config/options_io.h"
+#include "core/output/stat_fields.h"
 
 #include <fmt/format.h>
 

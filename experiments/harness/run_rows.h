@@ -1,10 +1,10 @@
 // The flat rows of the result files: one runs.csv row per run (a point and a
 // repetition) and one iterations.csv row per run and refinement iteration, made from
-// the run's RunStats (core/run_stats.h). The columns are fixed (same order in every
+// the run's RunStats (core/output/run_stats.h). The columns are fixed (same order in every
 // experiment) so scripts can rely on them; see README, "Experiment result files":
 //
 //   identity   config, point, repetition, scene, swept
-//   options    every SolverOptions key, in core/options.h order (resolved values)
+//   options    every SolverOptions key, in core/config/options.h order (resolved values)
 //   runs.csv   wall_s refine_wall_s refine_cpu_s propagate_wall_s links elements
 //              links_created rays_cast rays_skipped peak_rss_bytes bytes_elements
 //              bytes_links bytes_total tasks scheduler_ops steals idle_s
@@ -21,7 +21,7 @@
 // decreases within an experiment; bytes_total is the per-run memory figure).
 #pragma once
 
-#include "core/run_stats.h"
+#include "core/output/run_stats.h"
 #include "experiments/harness/sweep.h"
 
 #include <string>
@@ -37,7 +37,7 @@ using Row = std::vector<std::string>;
 [[nodiscard]] const std::vector<std::string>& iteration_columns();
 
 /// Probe error of a run against the reference (experiment `accuracy` block): mean, max
-/// and RMS over the probes of the relative error (core/error_metrics.h), and the time
+/// and RMS over the probes of the relative error (core/reference/error_metrics.h), and the time
 /// the solver's probe gather took (not part of wall_s).
 struct AccuracyFigures {
   double mean = 0, max = 0, rms = 0;

@@ -1,6 +1,6 @@
 #include "experiments/harness/sweep.h"
 
-#include "core/options_io.h"
+#include "core/config/options_io.h"
 
 #include <fmt/format.h>
 

@@ -5,7 +5,7 @@
 // point index and repetition, which is what --resume matches on.
 #pragma once
 
-#include "core/options.h"
+#include "core/config/options.h"
 #include "experiments/harness/experiment_config.h"
 
 #include <nlohmann/json.hpp>

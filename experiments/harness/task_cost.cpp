@@ -1,7 +1,7 @@
 #include "experiments/harness/task_cost.h"
 
-#include "core/median.h"
-#include "core/options_io.h"
+#include "core/base/median.h"
+#include "core/config/options_io.h"
 
 #include <fmt/format.h>
 

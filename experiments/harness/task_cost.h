@@ -6,7 +6,7 @@
 // algorithm; the experiment summary warns above kTaskCostWarnRatio.
 #pragma once
 
-#include "core/options.h"
+#include "core/config/options.h"
 
 #include <map>
 #include <string>

@@ -1,4 +1,4 @@
-// Microbenchmark of the form-factor estimators (core/form_factor.h): cost per call of
+// Microbenchmark of the form-factor estimators (core/transport/form_factor.h): cost per call of
 // each function on typical solver inputs (a triangle or quad source, a quadrature order
 // of 1-3 for polygon-to-polygon). Google Benchmark; links hrad_lib.
 #include <benchmark/benchmark.h>
@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "core/form_factor.h"
+#include "core/transport/form_factor.h"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/element.h"
+#include "core/hierarchy/element.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Microbenchmark of reading link lists (core/link_list.h) the way the propagation's
+// Microbenchmark of reading link lists (core/hierarchy/link_list.h) the way the propagation's
 // gather does, on lists stored as refiners store them (one link at a time, receivers
 // interleaved, so each list is several small blocks scattered in the arena) and on the
 // same lists after compaction (one block each). The time per link backs the claim that
@@ -11,9 +11,9 @@
 #include <random>
 #include <vector>
 
-#include "core/element.h"
-#include "core/link_list.h"
-#include "core/node_arena.h"
+#include "core/hierarchy/element.h"
+#include "core/hierarchy/link_list.h"
+#include "core/parallel/node_arena.h"
 
 namespace {
 

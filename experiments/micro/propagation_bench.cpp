@@ -1,4 +1,4 @@
-// Microbenchmark of the propagation's sweeps (core/propagation.h) on builtin:office
+// Microbenchmark of the propagation's sweeps (core/solver/propagation.h) on builtin:office
 // refined once at the default settings (one refinement stage, 1 thread; about
 // 300 k links). Each iteration runs 10 sweeps; the rate is per link and sweep.
 //  Isotropic: the default, whose gather streams over a matrix built once per
@@ -13,15 +13,15 @@
 #include <memory>
 #include <vector>
 
-#include "core/builtin_scenes.h"
-#include "core/hierarchy.h"
-#include "core/lock_pool.h"
-#include "core/open_fraction.h"
-#include "core/propagation.h"
-#include "core/push_weights.h"
-#include "core/ray_scene.h"
-#include "core/refiner.h"
-#include "core/transport.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/parallel/lock_pool.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/propagation.h"
+#include "core/solver/push_weights.h"
+#include "core/solver/refiner.h"
+#include "core/transport/open_fraction.h"
+#include "core/transport/transport.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 

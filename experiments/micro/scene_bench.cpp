@@ -14,8 +14,8 @@
 #include <random>
 #include <vector>
 
-#include "core/builtin_scenes.h"
-#include "core/ray_scene.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
 
 namespace {
 

@@ -56,7 +56,7 @@ class IterationReplay {
   void run() {
     out_.iteration = g_.iteration;
     // Processors load the initial tasks in chunks themselves, when they find nothing
-    // to take (as the refiners do, core/refiner.h).
+    // to take (as the refiners do, core/solver/refiner.h).
     const double start = k_.start_ns;
     out_.overhead_ns += start * static_cast<double>(procs_.size());
     for (std::size_t p = 0; p < procs_.size(); ++p) schedule(start, static_cast<int>(p), EventKind::kTake);

@@ -1,7 +1,7 @@
 // Discrete-event replay of a recorded refinement (TaskGraph) on `procs` simulated
 // processors under one scheduling policy and a CostModel.
 //
-// Each processor loops as core/refiner.cpp does: take up to block_size tasks, run them
+// Each processor loops as core/solver/refiner.cpp does: take up to block_size tasks, run them
 // (recorded durations × slowdown), spend block_ns, then submit the tasks the block
 // created in one operation; those become available when the submit releases the lock
 // (or the deque). Lock-like resources (the central lock, each stealing deque) are
@@ -24,7 +24,7 @@
 // The initial tasks of each iteration are loaded by the processors themselves, a chunk
 // of load_chunk at a time, by one that finds nothing of its own to take (while chunks
 // are left, blocked and stealing do not steal: IScheduler::take_own, as the refiners
-// do, core/refiner.h; the load's submit is that processor's time); iterations are
+// do, core/solver/refiner.h; the load's submit is that processor's time); iterations are
 // separated by a barrier.
 #pragma once
 
@@ -42,7 +42,7 @@ struct SimConfig {
   int procs = 1;
   int block_size = 1;
   CostModel costs;
-  int load_chunk = 4096;          ///< initial tasks per load (core/refiner.cpp)
+  int load_chunk = 4096;          ///< initial tasks per load (core/solver/refiner.cpp)
   bool keep_executions = false;  ///< fill IterationResult::executions (tests)
 };
 

@@ -1,9 +1,9 @@
 // The dependency DAG of a recorded refinement, rebuilt from a task trace
-// (core/trace.h) for the simulator (experiments/sim/simulator.h).
+// (core/parallel/trace.h) for the simulator (experiments/sim/simulator.h).
 //
 // Within one iteration every task but the initial ones was created by exactly one
 // parent, and the refiner submits a block's created tasks only after the whole block
-// (core/refiner.cpp, for every scheduler), so a task becomes available when its
+// (core/solver/refiner.cpp, for every scheduler), so a task becomes available when its
 // parent's *block* ends; the simulator decides the blocks, the graph only knows who
 // created whom. Iterations are separated by a barrier (propagation runs between them
 // and is not in the trace), so each iteration is its own graph.
@@ -13,7 +13,7 @@
 // and the initial tasks are 0 .. roots - 1 in their submission order.
 #pragma once
 
-#include "core/trace.h"
+#include "core/parallel/trace.h"
 
 #include <cstdint>
 #include <string>

@@ -1,5 +1,5 @@
 // libFuzzer entry for the JSON configuration readers: the input is read as `hrad solve
-// --config` reads its file (core/json_input.h, then apply_options_json and
+// --config` reads its file (core/base/json_input.h, then apply_options_json and
 // validate_options) and as `hrad experiment` reads a configuration
 // (parse_experiment_config). std::invalid_argument, with its file and what is wrong, is
 // the expected outcome for bad input; anything else (a crash, a sanitizer report, a
@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/json_input.h"
-#include "core/options_io.h"
+#include "core/base/json_input.h"
+#include "core/config/options_io.h"
 #include "experiments/harness/experiment_config.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

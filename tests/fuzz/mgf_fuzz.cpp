@@ -2,8 +2,8 @@
 // InputError; any other exception, crash, hang or huge allocation is a bug.
 // Limits are set lower than the defaults so that each input stays fast; `i`
 // includes resolve against the current directory (the seed corpus uses none).
-#include "core/input_error.h"
-#include "core/mgf_reader.h"
+#include "core/base/input_error.h"
+#include "core/scene/mgf/mgf_reader.h"
 
 #include <cstddef>
 #include <cstdint>

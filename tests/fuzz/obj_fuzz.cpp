@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "core/input_error.h"
-#include "core/obj_reader.h"
+#include "core/base/input_error.h"
+#include "core/scene/obj_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view in(reinterpret_cast<const char*>(data), size);

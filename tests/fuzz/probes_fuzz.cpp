@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "core/input_error.h"
-#include "core/probes.h"
+#include "core/base/input_error.h"
+#include "core/scene/probes.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -1,0 +1,53 @@
+#include "core/raycast/face_twins.h"
+
+#include "core/raycast/ray_scene.h"
+#include "core/scene/polygon_key.h"
+#include "core/scene/scene.h"
+
+#include <unordered_map>
+
+namespace hrad {
+
+std::vector<std::uint32_t> find_twins(std::span<const Vec3> vertices,
+                                      std::span<const std::uint32_t> indices,
+                                      std::span<const PolygonRange> polygons) {
+  const std::size_t n = polygons.size();
+  std::vector<std::uint32_t> twin(n, kNoTwin);
+  auto corners = [&](std::size_t i, std::vector<Vec3>& out) {
+    out.clear();
+    for (std::uint32_t k = 0; k < polygons[i].count; ++k)
+      out.push_back(vertices[indices[polygons[i].first + k]]);
+  };
+  // Forward hash -> polygons; then each polygon looks up its reversed cycle.
+  std::unordered_multimap<std::size_t, std::uint32_t> by_hash;
+  by_hash.reserve(n);
+  std::vector<Vec3> p, q;
+  for (std::size_t i = 0; i < n; ++i) {
+    corners(i, p);
+    by_hash.emplace(cycle_hash(p), static_cast<std::uint32_t>(i));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (twin[i] != kNoTwin) continue;
+    corners(i, p);
+    const auto [lo, hi] = by_hash.equal_range(cycle_hash(p, /*reversed=*/true));
+    for (auto it = lo; it != hi; ++it) {
+      const std::uint32_t j = it->second;
+      if (j == i || twin[j] != kNoTwin) continue;
+      corners(j, q);
+      if (!same_cycle(p, q, /*reversed=*/true)) continue;
+      twin[i] = j;
+      twin[j] = static_cast<std::uint32_t>(i);
+      break;
+    }
+  }
+  return twin;
+}
+
+std::vector<std::uint32_t> find_twins(const Scene& scene) {
+  std::vector<PolygonRange> polys;
+  polys.reserve(scene.faces.size());
+  for (const Face& f : scene.faces) polys.push_back({f.first, f.count});
+  return find_twins(scene.vertices, scene.indices, polys);
+}
+
+}  // namespace hrad

@@ -1,0 +1,36 @@
+// Two-sided faces as pairs of one-sided ones. hrad's faces reflect and emit on their
+// front side only; a face whose material is two-sided (MGF `sides 2`, the MGF default)
+// gets a back face: the same vertices in reverse order (so the opposite normal) and the
+// same material, which receives and emits on its own side and exchanges light with
+// its own radiosity. The pair coincides; RayScene treats such twins as one sheet
+// (core/raycast/face_twins.h), so neither occludes the other.
+//
+// The `sides` option chooses:
+//   auto  a back face for every face whose material is two-sided (OBJ and built-in
+//         scenes have none: they stay one-sided);
+//   one   no back faces: every face one-sided, as RenderPark reads MGF;
+//   two   a back face for every face, whatever its material.
+// A face whose reversed copy is already in the scene (a sheet modelled from both sides)
+// gets none. The back face keeps the front's first vertex and reverses the rest, so
+// that a quad is split along the same diagonal by the ray tracer (exactly the same
+// triangles: no crack between the two sides).
+#pragma once
+
+#include "core/scene/scene.h"
+
+#include <string>
+#include <string_view>
+
+namespace hrad {
+
+enum class Sides { Auto, One, Two };
+
+/// "auto", "one", "two"; std::invalid_argument for anything else.
+Sides parse_sides(std::string_view text);
+const char* sides_name(Sides s);
+
+/// Appends the back faces `mode` asks for and records the mode and the counts in
+/// scene.sides, scene.back_faces and scene.back_faces_present. Run once per scene.
+void add_back_faces(Scene& scene, Sides mode);
+
+}  // namespace hrad

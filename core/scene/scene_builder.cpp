@@ -1,0 +1,205 @@
+#include "core/scene/scene_builder.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace hrad {
+
+namespace {
+constexpr double kMaxCoordinate = 1e30;
+// A polygon counts as planar when no vertex is further than this fraction of
+// sqrt(area) from its mean plane.
+constexpr double kPlanarTolerance = 1e-3;
+
+bool finite_nonneg(const Rgb& c) { return c.isFinite().all() && (c >= 0).all(); }
+}  // namespace
+
+SceneBuilder::SceneBuilder(std::string name, std::string source) {
+  scene_.name = std::move(name);
+  scene_.source = std::move(source);
+}
+
+std::uint32_t SceneBuilder::add_vertex(const Vec3& p, const SourceLoc& at) {
+  for (int i = 0; i < 3; ++i) {
+    if (std::isnan(p[i])) throw InputError(at.file, at.line, "coordinate is NaN");
+    if (!std::isfinite(p[i]) || std::abs(p[i]) > kMaxCoordinate)
+      throw InputError(at.file, at.line,
+                       fmt::format("coordinate {} is infinite or beyond +-1e30", p[i]));
+  }
+  scene_.vertices.push_back(p);
+  return static_cast<std::uint32_t>(scene_.vertices.size() - 1);
+}
+
+std::uint32_t SceneBuilder::add_material(Material m, const SourceLoc& at) {
+  const Rgb& r = m.reflectance;
+  if (!r.isFinite().all() || (r < 0).any() || (r > 1).any())
+    throw InputError(at.file, at.line,
+                     fmt::format("material '{}': reflectance ({}, {}, {}) is outside [0, 1]",
+                                 m.name, r[0], r[1], r[2]));
+  if (!finite_nonneg(m.emission))
+    throw InputError(at.file, at.line,
+                     fmt::format("material '{}': emission ({}, {}, {}) is negative or not finite",
+                                 m.name, m.emission[0], m.emission[1], m.emission[2]));
+  if ((m.emission > kMaxExitance).any())
+    throw InputError(at.file, at.line,
+                     fmt::format("material '{}': emission ({:g}, {:g}, {:g}) is above {:g} "
+                                 "(results are 32-bit floats, and interreflection multiplies it)",
+                                 m.name, m.emission[0], m.emission[1], m.emission[2],
+                                 kMaxExitance));
+  scene_.materials.push_back(std::move(m));
+  return static_cast<std::uint32_t>(scene_.materials.size() - 1);
+}
+
+std::uint32_t SceneBuilder::default_material() {
+  ++defaulted_faces_;
+  if (default_material_ == UINT32_MAX) {
+    Material m;
+    m.name = "(default grey 0.5)";
+    scene_.materials.push_back(m);
+    default_material_ = static_cast<std::uint32_t>(scene_.materials.size() - 1);
+  }
+  return default_material_;
+}
+
+void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t material,
+                               const SourceLoc& at) {
+  if (idx.size() < 3)
+    throw InputError(at.file, at.line,
+                     fmt::format("a face needs at least 3 vertices, this one has {}", idx.size()));
+  for (std::uint32_t i : idx)
+    if (i >= scene_.vertices.size())
+      throw InputError(at.file, at.line,
+                       fmt::format("vertex index {} is out of range (there are {} vertices)",
+                                   i + 1, scene_.vertices.size()));
+  if (material >= scene_.materials.size())
+    throw InputError(at.file, at.line, fmt::format("material index {} is out of range", material));
+
+  std::vector<Vec3> p;
+  p.reserve(idx.size());
+  for (std::uint32_t i : idx) p.push_back(scene_.vertices[i]);
+  // Zero area, relative to the face's own size (edge lengths), is degenerate.
+  double perimeter2 = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) perimeter2 += (p[(i + 1) % p.size()] - p[i]).squaredNorm();
+  const double area = polygon_area(p);
+  if (!(area > 1e-12 * perimeter2)) {
+    // A face of no area at all, or a sliver: area below 1e-12 of its squared edge
+    // lengths (a long face 1e-10 wide), whose normal cannot be trusted. They were all
+    // called zero-area.
+    ++(area > 0 ? sliver_faces_ : degenerate_faces_);
+    return;
+  }
+  // The same polygon again (McGuire's Cornell box repeats a side face of each block
+  // under a "Bottom Face" comment): both copies would reflect and emit, doubling that
+  // face's light (the blocks' probes near the floor came out 8-11 % too bright). The
+  // reversed order is another polygon: the other side of a sheet.
+  std::vector<double> key = cycle_key(p);
+  if (!seen_.insert(std::move(key)).second) {
+    ++duplicate_faces_;
+    return;
+  }
+  if (idx.size() == 3) {
+    emit_face(idx, material);
+  } else if (relative_nonplanarity(p) <= kPlanarTolerance && is_convex(p)) {
+    emit_face(idx, material);
+  } else {
+    ++triangulated_faces_;
+    triangulate(idx, material);
+  }
+}
+
+void SceneBuilder::add_polygon(std::span<const Vec3> pts, std::uint32_t material,
+                               const SourceLoc& at) {
+  std::vector<std::uint32_t> idx;
+  idx.reserve(pts.size());
+  for (const Vec3& p : pts) idx.push_back(add_vertex(p, at));
+  add_polygon(idx, material, at);
+}
+
+void SceneBuilder::emit_face(std::span<const std::uint32_t> idx, std::uint32_t material) {
+  Face f;
+  f.first = static_cast<std::uint32_t>(scene_.indices.size());
+  f.count = static_cast<std::uint32_t>(idx.size());
+  f.material = material;
+  scene_.indices.insert(scene_.indices.end(), idx.begin(), idx.end());
+  scene_.faces.push_back(f);
+}
+
+// Ear clipping in the polygon's best-fit plane. Works for simple (non
+// self-intersecting) polygons, convex or not; for a bad polygon it falls back to a
+// fan so that nothing is lost silently (degenerate ears are dropped later).
+void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t material) {
+  std::vector<Vec3> p;
+  for (std::uint32_t i : idx) p.push_back(scene_.vertices[i]);
+  const Vec3 n = polygon_normal(p);
+  const Vec3 u = n.unitOrthogonal();
+  const Vec3 v = n.cross(u);
+  std::vector<Eigen::Vector2d> q;
+  for (const Vec3& x : p) q.emplace_back(x.dot(u), x.dot(v));
+  auto cross2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+    return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+  };
+  std::vector<std::size_t> ring(idx.size());
+  for (std::size_t i = 0; i < ring.size(); ++i) ring[i] = i;
+  auto add_tri = [&](std::size_t a, std::size_t b, std::size_t c) {
+    const std::uint32_t t[3] = {idx[a], idx[b], idx[c]};
+    const Vec3 tp[3] = {p[a], p[b], p[c]};
+    if (polygon_area(tp) > 0) emit_face(t, material);
+  };
+  std::size_t guard = 0;
+  while (ring.size() > 3 && guard < 4 * idx.size() * idx.size()) {
+    ++guard;
+    bool clipped = false;
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      const std::size_t a = ring[(k + ring.size() - 1) % ring.size()], b = ring[k],
+                        c = ring[(k + 1) % ring.size()];
+      if (cross2(q[a], q[b], q[c]) <= 0) continue;  // reflex corner
+      bool inside = false;
+      for (std::size_t o : ring) {
+        // Copies of the ear's own corners (a polygon with a hole written as one
+        // loop with a seam repeats two vertices) do not block it; other points
+        // block it when inside or on its boundary.
+        if (q[o] == q[a] || q[o] == q[b] || q[o] == q[c]) continue;
+        if (cross2(q[a], q[b], q[o]) >= 0 && cross2(q[b], q[c], q[o]) >= 0 &&
+            cross2(q[c], q[a], q[o]) >= 0) {
+          inside = true;
+          break;
+        }
+      }
+      if (inside) continue;
+      add_tri(a, b, c);
+      ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(k));
+      clipped = true;
+      break;
+    }
+    if (!clipped) break;
+  }
+  // What is left (a triangle, or a ring ear clipping could not finish) as a fan.
+  for (std::size_t k = 1; k + 1 < ring.size(); ++k) add_tri(ring[0], ring[k], ring[k + 1]);
+}
+
+Scene SceneBuilder::finish(const std::string& file) {
+  if (defaulted_faces_ > 0)
+    warn(fmt::format("{} face(s) named no material and got the default grey (0.5)",
+                     defaulted_faces_));
+  if (degenerate_faces_ > 0)
+    warn(fmt::format("{} degenerate (zero-area) face(s) dropped", degenerate_faces_));
+  if (sliver_faces_ > 0)
+    warn(fmt::format("{} sliver face(s) dropped (area below 1e-12 of the squared edge lengths: "
+                     "too thin for a reliable normal)",
+                     sliver_faces_));
+  if (duplicate_faces_ > 0)
+    warn(fmt::format("{} duplicate face(s) dropped (the same vertices in the same order as an "
+                     "earlier face: a coincident copy would reflect and emit the same light "
+                     "twice)",
+                     duplicate_faces_));
+  if (triangulated_faces_ > 0)
+    warn(fmt::format("{} non-planar or non-convex polygon(s) triangulated", triangulated_faces_));
+  if (scene_.faces.empty()) throw InputError(file, 0, "the scene has no polygon with positive area");
+  if (scene_.emitter_count() == 0)
+    warn("no face emits light: the solution is zero everywhere");
+  return std::move(scene_);
+}
+
+}  // namespace hrad

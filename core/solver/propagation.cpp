@@ -1,0 +1,542 @@
+#include "core/solver/propagation.h"
+
+#include "core/base/interrupt.h"
+#include "core/transport/open_fraction.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <type_traits>
+
+namespace hrad {
+
+ClusterReceiver parse_cluster_receiver(const std::string& name) {
+  if (name == "isotropic") return ClusterReceiver::Isotropic;
+  if (name == "cosine") return ClusterReceiver::Cosine;
+  throw std::invalid_argument("cluster_receiver must be isotropic or cosine, not '" + name + "'");
+}
+
+namespace {
+
+// `elements` is in breadth-first order (parents before children, each level's
+// children appended after it), so every level is a contiguous range; returns the
+// range starts plus the end. Push and pull run level by level, in parallel within
+// a level: an element there only reads its parent (push) or children (pull).
+std::vector<std::size_t> level_starts(const std::vector<Element*>& elements) {
+  std::vector<std::size_t> starts{0};
+  std::size_t begin = 0, end = elements.empty() ? 0 : 1;
+  while (begin < end) {
+    starts.push_back(end);
+    std::size_t next = end;
+    for (std::size_t i = begin; i < end; ++i) next += elements[i]->child_span().size();
+    begin = end;
+    end = std::min(next, elements.size());
+  }
+  return starts;
+}
+
+// Who does what: every level is cut into one contiguous part per thread, by weight
+// (the element's links plus a constant for its push, pull and update), and a thread
+// handles the same elements in every phase of every sweep: its gather, push, pull and
+// update of an element all find the element's lines in its own core's cache. (With a
+// separate work split per phase, most lines moved between the cores at every phase.)
+struct Partition {
+  int parts = 1;
+  std::vector<std::size_t> level;  // level starts, plus the end
+  std::vector<std::size_t> cut;    // level l, part t: cut[l * (parts + 1) + t] ..
+  [[nodiscard]] std::size_t levels() const { return level.size() - 1; }
+  [[nodiscard]] std::size_t begin(std::size_t l, int t) const {
+    return cut[l * static_cast<std::size_t>(parts + 1) + static_cast<std::size_t>(t)];
+  }
+  [[nodiscard]] std::size_t end(std::size_t l, int t) const { return begin(l, t + 1); }
+};
+
+Partition partition(const std::vector<Element*>& elements, int threads) {
+  constexpr double kElementWeight = 4;  // push + pull + update, in links' worth of work
+  Partition p;
+  const auto weight = [&](std::size_t i) {
+    return kElementWeight + static_cast<double>(elements[i]->links.size());
+  };
+  p.parts = std::max(threads, 1);
+  p.level = level_starts(elements);
+  for (std::size_t l = 0; l < p.levels(); ++l) {
+    const std::size_t b = p.level[l], e = p.level[l + 1];
+    double total = 0;
+    for (std::size_t i = b; i < e; ++i) total += weight(i);
+    p.cut.push_back(b);
+    double acc = 0;
+    std::size_t i = b;
+    for (int t = 1; t < p.parts; ++t) {
+      const double target = total * t / p.parts;
+      while (i < e && acc + weight(i) <= target) acc += weight(i++);
+      p.cut.push_back(i);
+    }
+    p.cut.push_back(e);
+  }
+  return p;
+}
+
+// What an element's own links deliver, per unit of its whole area, becomes per unit
+// of open area: the links' visibility already counted the closed-in part as blocked.
+// A mostly closed-in leaf is divided by at most 1 / kMinOpen, so that the noise of its
+// few open samples (its w comes from kOpenPoints points, its links' visibility from a
+// few rays) is not blown up; a wholly closed-in element gathers nothing. A parent's w
+// is a mean over its children, not a small sample, and is used as it is.
+constexpr double kMinOpen = 0.25;
+double open_gain(const Element& e) {
+  const double w = open_weight(e);
+  if (w <= 0) return 0.0;
+  const bool leaf = !e.is_cluster() && e.child_span().empty();
+  return 1.0 / (leaf ? std::max(w, kMinOpen) : w);
+}
+
+void push_one(Element* e, bool cosine) {
+  // Below an input polygon, what its surface chain gathered (the parent's links and
+  // those of its surface ancestors) is shared out by the push weights; what came from
+  // the clusters above passes on as it came (core/solver/push_weights.h). Once pushed, a
+  // surface element's `gathered` holds its surface chain's irradiance for its children.
+  const Element* p = e->parent;
+  if (p && !p->is_cluster() && !e->is_cluster()) {
+    const Rgb chain = e->gathered + static_cast<double>(e->push_weight) * p->gathered;
+    e->next = p->next - p->gathered + chain;
+    e->gathered = chain;
+    return;
+  }
+  e->next = p ? Rgb(e->gathered + p->next) : e->gathered;
+  if (!cosine || !e->parent || !e->parent->is_cluster()) return;
+  const std::array<Rgb, 6>& up = e->parent->light->arriving;
+  if (e->is_cluster()) {
+    for (std::size_t k = 0; k < 6; ++k) e->light->arriving[k] += up[k];
+  } else {
+    // The member's share of each axis direction, as add_by_axis splits its area.
+    const std::array<double, 6> w = axis_shares(e->normal);
+    for (std::size_t k = 0; k < 6; ++k) e->next += w[k] * up[k];
+  }
+}
+
+// A parent's radiosity is the mean of its children's over their open area
+// (core/transport/open_fraction.h): a closed-in part shows no radiosity to anyone.
+void pull_one(Element& e) {
+  const auto kids = e.child_span();
+  if (kids.empty()) {
+    e.next = e.emission + e.rho * (static_cast<double>(e.gather_scale) * e.next);
+  } else {
+    if (e.is_cluster()) {
+      // What leaves the cluster along each axis direction (see ClusterLight).
+      ClusterLight& cl = *e.light;
+      cl.leaving_next.fill(Rgb::Zero());
+      for (const Element& k : kids) {
+        if (k.is_cluster()) {
+          for (std::size_t j = 0; j < 6; ++j) cl.leaving_next[j] += k.light->leaving_next[j];
+        } else {
+          add_by_axis(cl.leaving_next, k.normal, Rgb(k.area * open_weight(k) * k.next));
+        }
+      }
+    }
+    Rgb sum = Rgb::Zero();
+    double open_area = 0;
+    for (const Element& k : kids) {
+      const double w = k.area * open_weight(k);
+      sum += w * k.next;
+      open_area += w;
+    }
+    if (open_area > 0) {
+      e.next = sum / open_area;
+    } else {  // wholly closed in: the plain mean (nobody sees it either way)
+      sum = Rgb::Zero();
+      for (const Element& k : kids) sum += k.area * k.next;
+      e.next = e.area > 0 ? Rgb(sum / e.area) : Rgb::Zero();
+    }
+  }
+}
+
+// Gathers at one element: its own links' value(link) summed into `gathered`, or, for a
+// cluster in Cosine mode, split along the axes into `light->arriving`.
+template <class Value>
+void gather_one(Element& e, bool cosine, const Value& value, bool open_area = true) {
+  if (cosine && e.is_cluster()) {
+    // Undo the link's mean cosine and split the irradiance a unit surface facing the
+    // source would get along the axes. The mean cosine is over the members' open area
+    // (or their whole area, without open_area), so the members' open parts receive in
+    // total what the link delivers to the cluster.
+    std::array<Rgb, 6>& dir = e.light->arriving;
+    dir.fill(Rgb::Zero());
+    for (const Link& l : e.links) {
+      const Vec3 d = (l.source->center - e.center).normalized();
+      const double projected =
+          open_area ? e.light->projected_open_area(d) : e.projected_area(d);
+      if (!(projected > 0)) continue;
+      const Rgb facing = value(l) * (e.area / projected);
+      for (int a = 0; a < 3; ++a)
+        dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
+    }
+    e.gathered = Rgb::Zero();
+    return;
+  }
+  Rgb g = Rgb::Zero();
+  for (const Link& l : e.links) g += value(l);
+  e.gathered = (open_area ? open_gain(e) : 1.0) * g;
+}
+
+struct alignas(64) SweepChange {
+  double change = 0, largest = 0;
+};
+
+// The last step of an element's sweep, once its `next` is final: B <- next (and the
+// cluster's directional sums), with the change recorded.
+void finish_one(Element& e, SweepChange& c) {
+  c.change = std::max(c.change, (e.next - e.B).abs().maxCoeff());
+  c.largest = std::max(c.largest, e.next.abs().maxCoeff());
+  e.B = e.next;
+  if (e.light) {
+    e.light->leaving = e.light->leaving_next;
+    e.light->leaving_made = true;
+  }
+}
+
+// One pass over the hierarchy in one parallel region: gather (every element, no
+// order), push (levels top-down, a barrier after each), and with `full` also pull
+// (levels bottom-up), each element finished (finish_one, then `stored(e)`) as soon as
+// its pull is done, returning the largest change and radiosity. Nothing reads B or the
+// directional sums after the gather, so they can change during the pull. Each part of
+// the partition is done by one thread throughout; a smaller team than asked for takes
+// several parts each.
+template <class Gather, class Stored>
+SweepChange run_pass(const std::vector<Element*>& el, const Partition& p, bool cosine, bool full,
+                     const Gather& gather, const Stored& stored) {
+  std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts));
+  const std::size_t levels = p.levels();
+#pragma omp parallel num_threads(p.parts)
+  {
+    const int team = omp_get_num_threads(), me = omp_get_thread_num();
+    auto each = [&](std::size_t l, auto&& f) {
+      for (int t = me; t < p.parts; t += team)
+        for (std::size_t i = p.begin(l, t); i < p.end(l, t); ++i) f(*el[i], t);
+    };
+    for (std::size_t l = 0; l < levels; ++l) each(l, [&](Element& e, int) { gather(e); });
+#pragma omp barrier
+    for (std::size_t l = 0; l < levels; ++l) {
+      each(l, [&](Element& e, int) { push_one(&e, cosine); });
+#pragma omp barrier
+    }
+    if (full) {
+      for (std::size_t l = levels; l-- > 0;) {
+        each(l, [&](Element& e, int t) {
+          pull_one(e);
+          finish_one(e, per_part[static_cast<std::size_t>(t)]);
+          stored(e);
+        });
+#pragma omp barrier
+      }
+    }
+  }
+  SweepChange total;
+  for (const SweepChange& c : per_part) {
+    total.change = std::max(total.change, c.change);
+    total.largest = std::max(total.largest, c.largest);
+  }
+  return total;
+}
+
+// Allocates every cluster's ClusterLight and sums its members' open area by axis
+// direction (children after parents in `elements`: walk backwards).
+void prepare_clusters(const std::vector<Element*>& elements) {
+  for (auto it = elements.rbegin(); it != elements.rend(); ++it) {
+    Element& e = **it;
+    if (!e.is_cluster()) continue;
+    if (!e.light) e.light = std::make_unique<ClusterLight>();
+    std::array<double, 6>& oa = e.light->open_area;
+    oa.fill(0);
+    for (const Element& k : e.child_span()) {
+      if (k.is_cluster()) {
+        for (std::size_t j = 0; j < 6; ++j) oa[j] += k.light->open_area[j];
+      } else {
+        add_by_axis(oa, k.normal, k.area * open_weight(k));
+      }
+    }
+  }
+}
+
+template <class V>
+V channels(const Rgb& x) {
+  if constexpr (std::is_same_v<V, double>) {
+    return x[0];
+  } else {
+    return x;
+  }
+}
+
+// Every element's links as a sparse matrix over value slots, for the propagation's
+// gather. Slot i holds the radiosity of elements[i]; a cluster has six more, the mean
+// radiosity of its members facing each axis direction (ClusterLight's leaving /
+// open_area). A link from a surface is one entry, its transport on the source's slot.
+// A link from a cluster along d is up to three, on the slots of the directions d is
+// seen along, weighted by |d_i| open_area / their sum: the same value as
+// radiosity_towards gives. An element's row is the irradiance its links deliver; with
+// cosine cluster receivers a cluster has six rows instead, the irradiance arriving
+// along each axis direction (ClusterLight::arriving: each link's irradiance on a unit
+// surface facing its source, |d_i| of it along axis i, as gather_one splits it), so a
+// link there is up to nine entries. Links and open areas do not change during a
+// propagation, so the matrix is built once per propagation, and each sweep's gather
+// streams over it and a small dense array of values instead of reading every link's
+// source element (456 bytes apart; for a cluster its ClusterLight too). Weights are
+// floats, like the links' form factor and visibility they come from.
+class GatherMatrix {
+ public:
+  // `elements` parents before children, clusters prepared (prepare_clusters).
+  GatherMatrix(const std::vector<Element*>& elements, int threads, bool cosine)
+      : cosine_(cosine), first_row_(elements.size() + 1, 0) {
+    const auto n = static_cast<std::ptrdiff_t>(elements.size());
+    axis_.assign(elements.size(), 0);
+    std::size_t slot = elements.size();
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      elements[i]->index = static_cast<std::uint32_t>(i);
+      if (elements[i]->is_cluster()) {
+        axis_[i] = static_cast<std::uint32_t>(slot);
+        slot += 6;
+      }
+      first_row_[i + 1] = first_row_[i] + rows_of(*elements[i]);
+    }
+    slots_ = slot;
+    row_.assign(first_row_.back() + 1, 0);
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const Element& e = *elements[static_cast<std::size_t>(i)];
+      const std::size_t r = first_row_[static_cast<std::size_t>(i)];
+      for (const Link& l : e.links)
+        entries(e, l, [&](std::size_t k, std::uint32_t, double) { ++row_[r + k + 1]; });
+    }
+    for (std::size_t r = 0; r + 1 < row_.size(); ++r) row_[r + 1] += row_[r];
+    col_.resize(row_.back());
+    weight_.resize(row_.back());
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const Element& e = *elements[static_cast<std::size_t>(i)];
+      const std::size_t r = first_row_[static_cast<std::size_t>(i)];
+      std::array<std::size_t, 6> at{};
+      for (std::size_t k = 0; k < rows_of(e); ++k) at[k] = row_[r + k];
+      for (const Link& l : e.links)
+        entries(e, l, [&](std::size_t k, std::uint32_t c, double w) {
+          col_[at[k]] = c;
+          weight_[at[k]] = static_cast<float>(w);
+          ++at[k];
+        });
+    }
+  }
+
+  [[nodiscard]] std::size_t slots() const { return slots_; }
+
+  /// Writes element e's slots of `values` from its B and directional sums.
+  template <class V>
+  void store(const Element& e, std::vector<V>& values) const {
+    values[e.index] = channels<V>(e.B);
+    if (!e.is_cluster()) return;
+    const ClusterLight& cl = *e.light;
+    for (std::size_t k = 0; k < 6; ++k)
+      values[axis_[e.index] + k] = cl.leaving_made && cl.open_area[k] > 0
+                                       ? channels<V>(cl.leaving[k] / cl.open_area[k])
+                                       : channels<V>(e.B);
+  }
+
+  /// Row k of element e times `values`: with one row per element (k = 0), the
+  /// irradiance e's own links deliver; for a cosine cluster receiver, what arrives
+  /// along axis direction k.
+  template <class V>
+  [[nodiscard]] V gather(const Element& e, const std::vector<V>& values, std::size_t k = 0) const {
+    V g = channels<V>(Rgb::Zero());
+    const std::size_t r = first_row_[e.index] + k;
+    for (std::size_t j = row_[r]; j < row_[r + 1]; ++j)
+      g += static_cast<double>(weight_[j]) * values[col_[j]];
+    return g;
+  }
+
+  /// Whether e's rows are the six axis directions (a cluster, cosine receivers).
+  [[nodiscard]] bool by_axis(const Element& e) const { return cosine_ && e.is_cluster(); }
+
+ private:
+  [[nodiscard]] std::size_t rows_of(const Element& e) const { return by_axis(e) ? 6 : 1; }
+
+  // Calls emit(row k of e, slot, weight) for each entry of link l at receiver e.
+  template <class Emit>
+  void entries(const Element& e, const Link& l, const Emit& emit) const {
+    if (!by_axis(e)) {
+      source_entries(e, l, [&](std::uint32_t c, double w) { emit(0, c, w); });
+      return;
+    }
+    // Undo the link's mean cosine over the members' open area and split the
+    // irradiance along the axes, as gather_one does.
+    const Vec3 d = (l.source->center - e.center).normalized();
+    const double projected = e.light->projected_open_area(d);
+    if (!(projected > 0)) return;
+    const double facing = e.area / projected;
+    source_entries(e, l, [&](std::uint32_t c, double w) {
+      for (int a = 0; a < 3; ++a)
+        if (d[a] != 0)
+          emit(static_cast<std::size_t>(2 * a + (d[a] < 0)), c, w * std::abs(d[a]) * facing);
+    });
+  }
+
+  // Calls emit(slot, weight) for each part of the radiosity link l's source shows e.
+  template <class Emit>
+  void source_entries(const Element& e, const Link& l, const Emit& emit) const {
+    const Element& s = *l.source;
+    const double t = l.transport();
+    if (!s.is_cluster()) {
+      emit(s.index, t);
+      return;
+    }
+    const Vec3 d = e.center - s.center;
+    const std::array<double, 6>& oa = s.light->open_area;
+    std::array<double, 3> part{};
+    double sum = 0;
+    for (int a = 0; a < 3; ++a) {
+      part[static_cast<std::size_t>(a)] =
+          std::abs(d[a]) * oa[static_cast<std::size_t>(2 * a + (d[a] < 0))];
+      sum += part[static_cast<std::size_t>(a)];
+    }
+    if (!(sum > 0)) {  // no member faces d: the cluster's mean, as radiosity_towards
+      emit(s.index, t);
+      return;
+    }
+    for (int a = 0; a < 3; ++a)
+      if (part[static_cast<std::size_t>(a)] > 0)
+        emit(axis_[s.index] + static_cast<std::uint32_t>(2 * a + (d[a] < 0)),
+             t * part[static_cast<std::size_t>(a)] / sum);
+  }
+
+  bool cosine_;
+  std::vector<std::size_t> first_row_;  // rows of elements[i]: first_row_[i] .. first_row_[i + 1]
+  std::vector<std::size_t> row_;        // entries of row r: row_[r] .. row_[r + 1]
+  std::vector<std::uint32_t> col_;      // value slot of each entry
+  std::vector<float> weight_;
+  std::vector<std::uint32_t> axis_;     // per element: its first axis slot (clusters)
+  std::size_t slots_ = 0;
+};
+
+// What a propagation keeps from sweep to sweep: the partition and, for isotropic
+// cluster receivers, the gather matrix and its values (one channel in a grey scene).
+class Sweeper {
+ public:
+  Sweeper(const std::vector<Element*>& elements, int threads, ClusterReceiver mode, bool grey)
+      : elements_(elements),
+        parts_(partition(elements, threads)),
+        cosine_(mode == ClusterReceiver::Cosine),
+        grey_(grey) {
+    prepare_clusters(elements);
+    matrix_.emplace(elements, threads, cosine_);
+    if (grey_) {
+      init(channel0_);
+    } else {
+      init(colour_);
+    }
+  }
+
+  /// One sweep; returns its largest change and largest radiosity.
+  SweepChange sweep() { return grey_ ? pass(channel0_) : pass(colour_); }
+
+ private:
+  template <class V>
+  static Rgb as_rgb(const V& v) {
+    if constexpr (std::is_same_v<V, double>) {
+      return Rgb::Constant(v);
+    } else {
+      return v;
+    }
+  }
+  template <class V>
+  void init(std::vector<V>& values) {
+    values.resize(matrix_->slots());
+    for (const Element* e : elements_) matrix_->store(*e, values);
+  }
+  template <class V>
+  SweepChange pass(std::vector<V>& values) {
+    const GatherMatrix& m = *matrix_;
+    return run_pass(
+        elements_, parts_, cosine_, true,
+        [&](Element& e) {
+          if (m.by_axis(e)) {  // a cosine cluster receiver: what arrives along each axis
+            for (std::size_t k = 0; k < 6; ++k) e.light->arriving[k] = as_rgb(m.gather(e, values, k));
+            e.gathered = Rgb::Zero();
+            return;
+          }
+          e.gathered = open_gain(e) * as_rgb(m.gather(e, values));
+        },
+        [&](const Element& e) { m.store(e, values); });
+  }
+
+  const std::vector<Element*>& elements_;
+  Partition parts_;
+  bool cosine_;
+  bool grey_;
+  std::optional<GatherMatrix> matrix_;
+  std::vector<Rgb> colour_;
+  std::vector<double> channel0_;
+};
+
+// The largest change of a sweep relative to the largest radiosity.
+double relative(const SweepChange& c) { return c.largest > 0 ? c.change / c.largest : 0.0; }
+
+}  // namespace
+
+void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
+                     const std::function<Rgb(const Link&)>& value, bool open_area) {
+  const bool cosine = mode == ClusterReceiver::Cosine;
+  prepare_clusters(elements);
+  const Partition p = partition(elements, threads);
+  run_pass(
+      elements, p, cosine, false, [&](Element& e) { gather_one(e, cosine, value, open_area); },
+      [](const Element&) {});
+}
+
+double propagation_sweep(const std::vector<Element*>& elements, int threads,
+                         ClusterReceiver mode, bool grey) {
+  return relative(Sweeper(elements, threads, mode, grey).sweep());
+}
+
+PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
+                            int max_sweeps, int threads, ClusterReceiver mode, bool grey,
+                            const std::function<void(int sweeps, double change)>& on_sweep) {
+  PropagationResult r;
+  Sweeper sweeper(elements, threads, mode, grey);  // links do not change here
+  double previous = 0, previous_change = 0;
+  int growing = 0;
+  while (r.sweeps < max_sweeps && !interrupted()) {
+    const SweepChange s = sweeper.sweep();
+    const double c = relative(s);
+    ++r.sweeps;
+    r.last_change = c;
+    if (on_sweep) on_sweep(r.sweeps, c);
+    // Past the largest double the changes are inf - inf: never "no change".
+    if (!std::isfinite(s.largest) || !std::isfinite(s.change)) {
+      r.diverged = true;
+      break;
+    }
+    if (c < 1e-13) {  // at round-off: nothing left to converge
+      r.converged = true;
+      break;
+    }
+    // Growth is judged on the change itself: with rho K's spectral radius q >= 1 it
+    // grows (or stays) by q every sweep, while the change relative to the radiosity,
+    // which grows too, falls towards (q - 1) / q and never rises.
+    growing = r.sweeps >= 2 && s.change >= previous_change ? growing + 1 : 0;
+    if (growing > 50) {
+      r.diverged = true;
+      break;
+    }
+    if (r.sweeps >= 2 && previous > 0) {
+      const double q = c / previous;
+      if (q < 1 && c * q / (1 - q) < tolerance) {
+        r.converged = true;
+        break;
+      }
+    }
+    previous = c;
+    previous_change = s.change;
+  }
+  return r;
+}
+
+}  // namespace hrad

@@ -1,0 +1,117 @@
+#include "core/solver/push_weights.h"
+
+#include "core/transport/open_fraction.h"
+#include "core/transport/transport.h"
+
+#include <algorithm>
+#include <numbers>
+#include <utility>
+#include <vector>
+
+namespace hrad {
+
+namespace {
+
+// A surface source farther than this many of its radii from a child's centre is
+// weighed by the differential form factor A cos cos / (pi d^2), within about 1 / k^2 of
+// the exact value (the contour integral costs ten times as much): most of a deep
+// element's chain is far from it, and the weights' normalisation takes out what is
+// common to all children.
+constexpr double kFarSource = 3.0;
+
+double point_weight(const Vec3& x, const Vec3& n, const Element& s, const Transport& transport) {
+  if (s.is_cluster()) return transport.form_factor_from_point(x, n, s);
+  const Vec3 d = s.center - x;
+  const double dist2 = d.squaredNorm();
+  const double r = s.radius();
+  if (dist2 < kFarSource * kFarSource * r * r) return transport.form_factor_from_point(x, n, s);
+  const double cos_x = n.dot(d), cos_s = -s.normal.dot(d);
+  if (!(cos_x > 0) || !(cos_s > 0)) return 0;
+  return s.area * cos_x * cos_s / (std::numbers::pi * dist2 * dist2);
+}
+
+// Both sets of weights of P's children, into light[k] and geometry[k] (child k): the
+// form factors from each child's centre to the sources of the links of P's surface
+// chain (P and its surface ancestors up to its input polygon), times the links'
+// visibility, and for `light` the sources' radiosity (all channels; the geometric
+// weights when every source is dark), each set normalised to an open-area mean of 1
+// over the children (which also takes out the difference between the centre values and
+// the links' own quadrature on average). A chain without links leaves both at 1.
+void weigh_children(const Element& p, const Transport& transport, bool any_light,
+                    std::vector<std::pair<const Element*, double>>& chain, float* light,
+                    float* geometry) {
+  const auto kids = p.child_span();
+  chain.clear();
+  for (const Element* a = &p; a != nullptr && !a->is_cluster(); a = a->parent)
+    for (const Link& l : a->links) chain.emplace_back(l.source, static_cast<double>(l.visibility));
+  if (chain.empty()) return;
+  double open_area = 0, by_light = 0, by_geometry = 0;
+  for (std::size_t k = 0; k < kids.size(); ++k) {
+    const Element& c = kids[k];
+    double wl = 0, wg = 0;
+    for (const auto& [source, visibility] : chain) {
+      if (!(visibility > 0)) continue;
+      const double f = point_weight(c.center, c.normal, *source, transport) * visibility;
+      wg += f;
+      wl += f * source->B.sum();
+    }
+    if (!any_light) wl = wg;
+    light[k] = static_cast<float>(wl);
+    geometry[k] = static_cast<float>(wg);
+    const double area = c.area * open_weight(c);
+    open_area += area;
+    by_light += area * wl;
+    by_geometry += area * wg;
+  }
+  // The open-area mean of the weights is 1: P's irradiance is shared out, not made.
+  const auto normalise = [&](float* w, double weighted) {
+    const bool ok = weighted > 0 && open_area > 0;
+    for (std::size_t k = 0; k < kids.size(); ++k)
+      w[k] = ok ? static_cast<float>(w[k] * (open_area / weighted)) : 1.0f;
+  };
+  normalise(light, by_light);
+  normalise(geometry, by_geometry);
+}
+
+}  // namespace
+
+void PushWeights::update(const std::vector<Element*>& elements, const Transport& transport,
+                         int threads) {
+  bool any_light = false;
+  for (const Element* e : elements) any_light = any_light || (e->B > 0).any();
+  parents_.clear();
+  offset_.assign(1, 0);
+  for (Element* e : elements)
+    if (!e->child_span().empty()) {
+      parents_.push_back(e);
+      offset_.push_back(offset_.back() + e->child_span().size());
+    }
+  light_.assign(offset_.back(), 1.0f);
+  geometry_.assign(offset_.back(), 1.0f);
+  const auto n = static_cast<std::ptrdiff_t>(parents_.size());
+  std::vector<std::pair<const Element*, double>> chain;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) firstprivate(chain)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const Element& p = *parents_[static_cast<std::size_t>(i)];
+    if (p.is_cluster()) continue;
+    const std::size_t at = offset_[static_cast<std::size_t>(i)];
+    weigh_children(p, transport, any_light, chain, &light_[at], &geometry_[at]);
+  }
+}
+
+void PushWeights::apply(bool geometric) const {
+  const std::vector<float>& w = geometric ? geometry_ : light_;
+  for (std::size_t i = 0; i < parents_.size(); ++i) {
+    const auto kids = parents_[i]->child_span();
+    for (std::size_t k = 0; k < kids.size(); ++k) kids[k].push_weight = w[offset_[i] + k];
+  }
+}
+
+void update_push_weights(const std::vector<Element*>& elements, const Transport& transport,
+                         int threads, bool geometric) {
+  PushWeights w;
+  w.update(elements, transport, threads);
+  w.apply(geometric);
+}
+
+}  // namespace hrad

@@ -1,0 +1,70 @@
+// Push weights: how a surface element shares the irradiance it receives (through its
+// own links and from its ancestors') among its children.
+//
+// A link r <- s carries the mean of the point form factor over r, and the push hands
+// that mean to every part of r. Where the form factor varies over r, a part gets more
+// or less than it should; across r it evens out, but not in a leaf's row sum, whose
+// parts come from several levels. A leaf in the corner of a room links at its own
+// level to the squares beside it on the two walls, and inherits from its ancestors
+// their mean form factor to the walls' farther parts, which it sees at grazing angles
+// (an ancestor's far-from-the-wall parts see them well): in the empty furnace box at
+// rho 0.9 such leaves gathered up to 1.44 of their hemisphere, their neighbours 0.83,
+// and the answer came out 4.7 % high (1/(1 - rho S) turns a spread of S into a
+// surplus).
+//
+// So each surface child c of a surface element P gets a weight k_c, the share of P's
+// irradiance it receives relative to P's mean: the form factors from c's centre to the
+// sources of the links of P's surface chain (P's own and those of its surface
+// ancestors up to its input polygon), times each link's visibility and its source's
+// radiosity (frozen during refinement), scaled so that the open-area mean of k over
+// P's children is 1. The push gives c its own irradiance, what P inherited from the
+// clusters above its polygon as it came, and k_c times what P's surface chain gathered
+// (P's own links and what it inherited from its surface ancestors), so energy is
+// conserved exactly and every link's light is shared out by its own geometry at every
+// level below its receiver down to the leaves. Weights from P's own links alone,
+// applied to what P's own links gathered, left a corner leaf with its ancestors' mean
+// two and three levels up: 80 % of the empty furnace room's area had a row sum within
+// 0.97-1.03, and now all of it (the cluttered furnace: 63 % -> 79 %). Children of
+// clusters and of elements whose chain has no link get 1. The weights are recomputed
+// after each refinement stage.
+//
+// A surface source farther than a few of its radii from a child is weighed by the
+// differential form factor (within about 1/9 of the exact one there), the nearer ones
+// by the exact point-to-polygon value; the normalisation takes out what is common to
+// all children. On builtin:office the chains hold 251 k links (72 k own links) per
+// iteration, one evaluation per child and link.
+#pragma once
+
+#include "core/hierarchy/element.h"
+
+#include <vector>
+
+namespace hrad {
+
+class Transport;
+
+/// Both sets of push weights of every surface child, made in one pass (the form
+/// factors are the same, only the sources' radiosities differ): by light, each source
+/// counting with its radiosity (for the propagation), and by geometry, every source
+/// counting 1 (for row sums, core/solver/row_sums.h, which measure transport). Without light
+/// anywhere both are geometric.
+class PushWeights {
+ public:
+  /// Computes both sets for `elements` (all of the hierarchy's elements, in any order)
+  /// on `threads` threads; nothing is applied yet. The hierarchy's children must not
+  /// change before the last apply().
+  void update(const std::vector<Element*>& elements, const Transport& transport, int threads);
+  /// Writes one set into every child's push_weight.
+  void apply(bool geometric) const;
+
+ private:
+  std::vector<Element*> parents_;    ///< elements with children
+  std::vector<std::size_t> offset_;  ///< parents_[i]'s children: offset_[i] .. offset_[i + 1]
+  std::vector<float> light_, geometry_;
+};
+
+/// PushWeights::update followed by apply(geometric).
+void update_push_weights(const std::vector<Element*>& elements, const Transport& transport,
+                         int threads, bool geometric = false);
+
+}  // namespace hrad

@@ -1,0 +1,169 @@
+// Refiner: the refinement stage of one iteration. `threads` refiners (an OpenMP
+// team) take blocks of tasks from the scheduler, classify and estimate each
+// candidate link, ask the oracle, and either store the link at its receiver or
+// replace it by links to or from the children of the element to refine. The tasks
+// a refiner creates are buffered and submitted after its block (the paper's
+// blocking, §3.5; with block size 1 this is plain task-at-a-time scheduling).
+//
+// The iteration's initial tasks (every existing link) are loaded into the scheduler
+// in chunks by the refiners themselves, by whichever finds the scheduler empty, so
+// the load runs in parallel and on demand. A solver thread runs beside the refiners
+// (paper §3.2) and detects termination: `pending` counts tasks submitted or still to
+// be loaded and not yet known to be finished; it starts at the whole initial load, a
+// refiner adds a block's children before it submits them, and takes retired tasks off
+// in the same update or later (at most 1,024 owed, all before it goes idle), so
+// pending reaches zero only when no task is queued, left to load or in flight. The
+// refiner that brings it to zero wakes the solver thread, which tells the refiners to
+// stop (the solver thread sleeps meanwhile: it takes no core). While chunks are left
+// to load, refiners take only their own work (IScheduler::take_own).
+#pragma once
+
+#include "core/hierarchy/element.h"
+#include "core/parallel/lock_pool.h"
+#include "core/parallel/pin_plan.h"
+#include "core/parallel/trace.h"
+#include "core/transport/transport.h"
+#include "oracles/oracle.h"
+#include "schedulers/scheduler.h"
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hrad {
+
+class Hierarchy;
+
+struct RefineLimits {
+  double eps_power = 0;  ///< oracle threshold in power units
+  double min_area = 0;   ///< absolute: surfaces smaller than this are not split
+  /// The stage stops (RefineCounters::over_memory) when the refiners' element and link
+  /// arenas hold more than this many bytes; 0: no limit.
+  std::uint64_t max_bytes = 0;
+  /// Emitted power over total area: what a receiver's irradiance is compared with
+  /// (OracleThresholds::mean_irradiance); 0: thresholds are not scaled.
+  double mean_irradiance = 0;
+  /// Where the oracle's decision on a link depended on its visibility estimate (it
+  /// would decide otherwise at V = 0, 1/2 or 1), an accepted link's visibility is
+  /// estimated again from rays independent of the ones decided on (decision_rays =
+  /// independent). With shared rays the accepted links are those whose rays happened
+  /// to find the pair more open, and their estimates are biased high; the link set is
+  /// the same either way, since the decision always reads the first rays.
+  bool independent_estimates = false;
+};
+
+/// What one refinement stage did, summed over refiners.
+struct RefineCounters {
+  std::uint64_t tasks = 0;
+  std::uint64_t links_created = 0;  ///< accepted links that were not links before
+  std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
+  std::uint64_t culled = 0;         ///< pairs that cannot exchange light
+  std::uint64_t rays_cast = 0;
+  std::uint64_t rays_skipped = 0;   ///< rays not cast thanks to culling
+  double busy_s = 0;                ///< summed over refiners: wall time in the refinement loop, less idle and loading
+  double idle_s = 0;                ///< summed over refiners: waiting for tasks
+  /// Summed over refiners: CPU time of the refiner's thread over the whole stage
+  /// (its own clock, core/base/clock.h), which stops while the thread waits for a core.
+  double cpu_s = 0;
+  int peak_parallelism = 0;         ///< most refiners busy at once
+  double load_s = 0;                ///< summed over refiners: time loading initial tasks
+  std::uint64_t link_bytes = 0;     ///< bytes in the refiner's link arena after compaction
+  /// Time to compact the stage's link lists (core/hierarchy/link_list.h) after the last task:
+  /// per refiner, and in the total the longest.
+  double compact_s = 0;
+  std::uint64_t takes = 0;          ///< take() calls that returned tasks
+  std::uint64_t submits = 0;        ///< submit() calls
+  /// Tasks whose receiver's memory (Element::home_node) is on this refiner's node,
+  /// and on another node (see set_binding).
+  std::uint64_t tasks_local = 0, tasks_remote = 0;
+  const char* bound = "none";       ///< per refiner: what bind_thread said (core/parallel/pin_plan.h)
+  std::string bind_warning;         ///< per refiner: why binding failed, if it did
+  /// The stage stopped because its arenas passed RefineLimits::max_bytes (it is then
+  /// unfinished); `arena_bytes` is what they held when that was seen.
+  bool over_memory = false;
+  std::uint64_t arena_bytes = 0;
+  /// Per refiner (the fields above, one entry per worker; peak_parallelism unused).
+  std::vector<RefineCounters> per_worker;
+  /// One record per task when tracing was asked for (unordered).
+  std::vector<TraceRecord> trace;
+};
+
+/// How far a refinement stage has come, as RefineProgressFn sees it.
+struct RefineProgress {
+  std::uint64_t tasks = 0;    ///< tasks examined so far, over all refiners
+  std::uint64_t pending = 0;  ///< tasks known and not yet examined (queued or still to load)
+  std::uint64_t links = 0;    ///< links accepted so far (created or kept)
+  double elapsed_s = 0;       ///< since the stage started
+};
+using RefineProgressFn = std::function<void(const RefineProgress&)>;
+
+class Refiner {
+ public:
+  Refiner(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
+          RefineLimits limits, LockPool& element_locks, LockPool& link_locks);
+
+  /// Binds refiner i (and the solver thread) as `plan` says at the start of every
+  /// run(), through `topology`, and gives each refiner's thread its previous CPU set
+  /// back when the stage ends; counts tasks as local when the receiver's
+  /// home_node is the refiner's plan node. Both must outlive the Refiner; without a
+  /// call, refiners are unbound and on node 0.
+  void set_binding(const Topology* topology, const PinPlan* plan) {
+    topology_ = topology;
+    plan_ = plan;
+  }
+
+  /// While a stage runs, calls `fn` about every `interval_ms` from a thread of its
+  /// own (never two calls at once, never after run() returns): refiners publish their
+  /// counts once per block, so the figures lag by at most a block each. Without a
+  /// call (or with an empty `fn`) no such thread runs and refiners publish nothing.
+  void set_progress(RefineProgressFn fn, int interval_ms = 100) {
+    progress_ = std::move(fn);
+    progress_interval_ms_ = interval_ms;
+  }
+
+  /// Runs one refinement stage from `initial` tasks to completion. No element may
+  /// hold links when it starts (the first stage, or after reload_links): each list is
+  /// compacted by the refiner that stored its first link in the stage, so a list that
+  /// already held links would keep staging blocks that the next stage reuses.
+  /// With `trace_iteration` > 0, records every task (core/parallel/trace.h) under that
+  /// iteration number.
+  /// `initial` is read (and its trace ids set) in place; the caller keeps it.
+  RefineCounters run(IScheduler& scheduler, std::span<Task> initial, int threads,
+                     int block_size, int trace_iteration = 0);
+
+  /// Tasks for the next iteration: every stored link, removed from its receiver
+  /// (call between stages only; `elements` must be all of the hierarchy's, and the
+  /// link memory is handed out again, see Hierarchy::release_links). Reloaded tasks
+  /// carry their F and visibility. Built on `threads` threads, in the same order for
+  /// any thread count: elements in the given order, each one's links in list order.
+  /// `tasks` is resized to the link count and overwritten: pass the previous
+  /// iteration's vector, so that its memory (and its pages) are reused.
+  static void reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements,
+                           int threads, std::vector<Task>& tasks);
+
+ private:
+  struct Worker;
+  struct Step;
+  // One task: classify, estimate and judge the pair (open_pair or judge), then store
+  // its link or split one end into child tasks.
+  void process(const Task& task, Worker& w, std::vector<Task>& out);
+  Step open_pair(PairClass pc, double priority, Worker& w, LinkEstimate& est);
+  Step judge(const Task& task, Worker& w, LinkEstimate& est);
+  void store_links(Worker& w, bool wait);
+  [[nodiscard]] bool splittable(const Element& e) const;
+
+  Hierarchy& hierarchy_;
+  const Transport& transport_;
+  const IOracle& oracle_;
+  RefineLimits limits_;
+  LockPool& element_locks_;
+  LockPool& link_locks_;
+  const Topology* topology_ = nullptr;
+  const PinPlan* plan_ = nullptr;
+  RefineProgressFn progress_;
+  int progress_interval_ms_ = 100;
+};
+
+}  // namespace hrad

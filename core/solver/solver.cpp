@@ -1,0 +1,494 @@
+#include "core/solver/solver.h"
+
+#include "core/base/clock.h"
+#include "core/base/interrupt.h"
+#include "core/base/progress.h"
+#include "core/config/effects.h"
+#include "core/config/options_io.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/parallel/lock_pool.h"
+#include "core/parallel/trace.h"
+#include "core/raycast/ray_scene.h"
+#include "core/solver/numa_report.h"
+#include "core/solver/propagation.h"
+#include "core/solver/push_weights.h"
+#include "core/solver/refiner.h"
+#include "core/solver/row_sums.h"
+#include "core/transport/form_factor.h"
+#include "core/transport/open_fraction.h"
+#include "core/transport/transport.h"
+#include "oracles/oracle.h"
+#include "schedulers/pool_order.h"
+#include "schedulers/scheduler.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace hrad {
+
+namespace {
+
+// The propagation of an iteration before the last only gives the next refinement the
+// radiosities its oracle weighs links by, so it stops at this tolerance (or at
+// gather_tolerance when that is looser); the last iteration's converges to
+// gather_tolerance. builtin:office at the defaults: sweeps per iteration 41, 33, 25,
+// 19 -> 21, 13, 2, 24, propagation 1.17 -> 0.74 s, 5 links of 359,002 different, the
+// probe errors the same to 0.01 %.
+constexpr double kIntermediateTolerance = 1e-4;
+
+/// max_memory_gb in bytes; 0 gives three quarters of the physical memory (sysconf), and
+/// no limit where that cannot be read.
+std::uint64_t memory_limit_bytes(double gb) {
+  if (gb > 0) return static_cast<std::uint64_t>(gb * 1e9);
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return 0;
+  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 4 * 3;
+}
+
+/// Leaf surface elements (those without children), depth first: the solution's
+/// finest mesh.
+std::vector<const Element*> leaf_surfaces(const Element& root) {
+  std::vector<const Element*> leaves;
+  std::vector<const Element*> stack{&root};
+  while (!stack.empty()) {
+    const Element* e = stack.back();
+    stack.pop_back();
+    const auto kids = e->child_span();
+    if (!kids.empty()) {
+      for (const Element& k : kids) stack.push_back(&k);
+    } else if (!e->is_cluster()) {
+      leaves.push_back(e);
+    }
+  }
+  return leaves;
+}
+
+// The cluster tree is built by the calling thread into refiner 0's arena, so the
+// thread is bound as refiner 0 while it builds: under first-touch the tree's pages then
+// land on refiner 0's node, where the arena counts them.
+Hierarchy build_hierarchy(const Scene& scene, int threads, const ArenaPlacement& placement,
+                          const Topology& topology, const PinPlan& plan) {
+  const ScopedThreadBinding bound(&topology,
+                                  plan.refiners.empty() ? ThreadBinding{} : plan.refiners[0]);
+  return Hierarchy(scene, threads, placement);
+}
+// What one Solver::run keeps from stage to stage.
+struct RunState {
+  RunState(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
+           const RefineLimits& l, int pool, int threads)
+      : limits(l),
+        element_locks(pool, threads),
+        link_locks(pool, threads),
+        refiner(hierarchy, transport, oracle, limits, element_locks, link_locks) {}
+  RunStats stats;
+  RefineLimits limits;
+  LockPool element_locks;
+  LockPool link_locks;
+  Refiner refiner;
+  std::vector<TraceRecord> trace;
+  std::vector<Task> tasks;
+  double reload_s = 0;  ///< building this iteration's tasks (counted in its refinement)
+  int max_sweeps = 0;
+  bool grey = false;
+};
+
+}  // namespace
+
+struct Solver::Impl {
+  const Scene& scene;
+  SolverOptions options;
+  ProgressFn progress;
+  std::unique_ptr<Topology> topology;  ///< binds threads and arena memory (core/parallel/topology.h)
+  PinPlan plan;                        ///< where each refiner runs (core/parallel/pin_plan.h)
+  RayScene rays;
+  Hierarchy hierarchy;
+  Transport transport;
+  std::unique_ptr<IOracle> oracle;
+  RowSumMode row_sum_mode;
+  ClusterReceiver receiver_mode;
+  double emitted_power = 0;  ///< sum over faces of area x largest emission channel
+  double total_area = 0;
+  Effects effects;           ///< what the scene needs (core/config/effects.h)
+
+  Impl(const Scene& s, const SolverOptions& o, ProgressFn p)
+      : scene(s),
+        options(o),
+        progress(std::move(p)),
+        topology(std::make_unique<Topology>()),
+        plan(make_pin_plan(topology->info(), parse_pin_policy(o.pin), o.threads)),
+        rays(RayScene::from_scene(s)),
+        hierarchy(build_hierarchy(
+            s, o.threads,
+            ArenaPlacement{parse_placement(o.placement), topology->info().numa_nodes,
+                           plan.worker_nodes(), topology.get()},
+            *topology, plan)),
+        transport(hierarchy, rays, o.visibility_rays, o.seed, parse_cluster_model(o.cluster_model)),
+        oracle(make_oracle(o.oracle)),
+        row_sum_mode(parse_row_sum_mode(o.row_sums)),
+        receiver_mode(parse_cluster_receiver(o.cluster_receiver)),
+        emitted_power(s.max_channel_emitted_power()),
+        total_area(s.total_area()) {
+    effects = analyse_effects(s, o);
+    transport.set_visibility_effect(effects.visibility.on);
+    transport.set_shaft_culling(o.shaft_culling == "on" &&
+                                parse_effects_mode(o.effects) == EffectsMode::Auto);
+  }
+
+  // The stages of run(), in order (each iteration: refine, prepare, propagate, count).
+  void warn_about_scene(RunStats& stats, bool solve) const;
+  RefineCounters refine(RunState& r, int it, IterationStats& is);
+  std::vector<Element*> prepare_propagation(IterationStats& is);
+  void propagate_links(RunState& r, int it, bool last, std::vector<Element*>& elements,
+                       IterationStats& is);
+  void count_links(int it, const std::vector<Element*>& elements, IterationStats& is,
+                   RunStats& stats) const;
+  void write_run_trace(const std::vector<TraceRecord>& trace) const;
+};
+
+Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress) {
+  validate_options(options);
+  // Names are checked before the (possibly long) hierarchy build, against the
+  // registries: nothing is built for the check (threads and block_size, which
+  // make_scheduler also checks, are validate_options' part).
+  check_scheduler_name(options.scheduler);
+  check_oracle_name(options.oracle);
+  impl_ = std::make_unique<Impl>(scene, options, std::move(progress));
+}
+
+Solver::~Solver() = default;
+
+RunStats Solver::run() {
+  Impl& m = *impl_;
+  const SolverOptions& o = m.options;
+  const auto run_start = Clock::now();
+  const RefineLimits limits{o.eps * m.emitted_power, o.min_area * m.total_area,
+                            memory_limit_bytes(o.max_memory_gb),
+                            m.total_area > 0 ? m.emitted_power / m.total_area : 0.0,
+                            o.decision_rays == "independent"};
+  RunState r(m.hierarchy, m.transport, *m.oracle, limits,
+             o.locks_pool > 0 ? o.locks_pool : 2 * o.threads, o.threads);
+  RunStats& stats = r.stats;
+  r.refiner.set_binding(m.topology.get(), &m.plan);
+  add_placement_warnings(m.plan, m.topology->info(), m.hierarchy, o, stats.warnings);
+  stats.effects = m.effects;
+  const bool auto_effects = parse_effects_mode(o.effects) == EffectsMode::Auto;
+  const bool solve = m.effects.emission.on;
+  m.warn_about_scene(stats, solve);
+  if (solve) r.tasks.push_back(Task{&m.hierarchy.root(), &m.hierarchy.root()});
+  // Interreflection off (every reflectance 0): one sweep gives B = E exactly.
+  r.max_sweeps = m.effects.interreflection.on ? o.max_gather_sweeps : 1;
+  r.grey = !m.effects.colour.on;
+
+  for (int it = 1; it <= o.iterations && solve; ++it) {
+    IterationStats is;
+    is.iteration = it;
+    const RefineCounters rc = m.refine(r, it, is);
+    const auto t0 = Clock::now();
+    std::vector<Element*> elements = m.prepare_propagation(is);
+    // Every task was a reloaded link accepted again (no link created, none split): the
+    // link set is the previous iteration's, and the next iterations would repeat this
+    // one (up to an oracle decision that the radiosity's last digits could flip). So it
+    // is propagated to gather_tolerance as the last iteration would be, and the run
+    // stops after it (with --iterations 1000 every later iteration re-ran the same links).
+    const bool settled = auto_effects && it < o.iterations && it > 1 &&
+                         rc.tasks == rc.links_kept && rc.links_created == 0;
+    const bool last = it == o.iterations || settled;
+    m.propagate_links(r, it, last, elements, is);
+    is.propagate_wall_s = seconds_since(t0);
+    m.count_links(it, elements, is, stats);
+    stats.iterations.push_back(is);
+    stats.totals.iterations_run = it;
+    if (settled) {
+      stats.effects.iterations = {
+          false, fmt::format("stopped after iteration {} of {}: it re-accepted every link and "
+                             "created none, so the rest would repeat its links (its propagation "
+                             "ran to gather_tolerance, as the last one would)",
+                             it, o.iterations)};
+      break;
+    }
+    if (it < o.iterations) {
+      const auto reload_start = Clock::now();
+      Refiner::reload_links(m.hierarchy, elements, o.threads, r.tasks);
+      r.reload_s = seconds_since(reload_start);
+    }
+  }
+  if (!o.trace.empty()) m.write_run_trace(r.trace);
+  if (m.progress) m.progress("done", 1.0);
+
+  RunTotals& t = stats.totals;
+  t.wall_s = seconds_since(run_start);
+  static_cast<IterationTotals&>(t) = sum_iterations(stats.iterations);
+  if (stats.iterations.empty()) t.elements = m.hierarchy.element_count();
+  t.peak_rss_bytes = peak_rss_bytes();
+  return std::move(stats);
+}
+
+void Solver::Impl::warn_about_scene(RunStats& stats, bool solve) const {
+  if (emitted_power <= 0)
+    stats.warnings.push_back(solve ? "scene has no emitter: the solution is zero (solved anyway: "
+                                     "effects = all)"
+                                   : "scene has no emitter: the solution is zero; nothing was "
+                                     "refined or propagated");
+  // B = E + rho K B has no finite solution when rho K can keep all light (rho = 1 in a
+  // closed scene): the sweeps then never converge; the propagation reports divergence
+  // when the change stops falling (core/solver/propagation.h), or stops at the cap.
+  for (const Material& mat : scene.materials)
+    if (solve && effects.interreflection.on && mat.reflectance.maxCoeff() >= 1) {
+      stats.warnings.push_back(fmt::format(
+          "material '{}' reflects all light (reflectance 1): a closed scene with such surfaces "
+          "has no finite solution: the propagation stops when its change stops falling, or at "
+          "max_gather_sweeps ({})",
+          mat.name, options.max_gather_sweeps));
+      break;
+    }
+}
+
+// The refinement stage of iteration `it`: the scheduler and refiners over r.tasks, and
+// what they counted into `is` (the stage's wall time includes building its tasks from
+// the previous iteration's links).
+RefineCounters Solver::Impl::refine(RunState& r, int it, IterationStats& is) {
+  const SolverOptions& o = options;
+  const double base = static_cast<double>(it - 1) / o.iterations;
+  if (progress) {
+    progress(fmt::format("iteration {}/{}: refine", it, o.iterations), base);
+    // During the stage: tasks examined and links accepted so far. The share done is
+    // estimated from the previous iteration's task count (or the tasks known, when
+    // more); iteration 1 starts from one task and finds the rest as it goes, so it
+    // claims no share until it ends.
+    const std::uint64_t expected = r.stats.iterations.empty() ? 0 : r.stats.iterations.back().tasks;
+    r.refiner.set_progress([this, it, base, expected](const RefineProgress& p) {
+      const double known = static_cast<double>(std::max(expected, p.tasks + p.pending));
+      const double share = expected > 0 ? static_cast<double>(p.tasks) / known : 0.0;
+      progress(fmt::format("iteration {}/{}: refine {} tasks, {} links", it, options.iterations,
+                           ProgressReporter::format_count(p.tasks),
+                           ProgressReporter::format_count(p.links)),
+               base + 0.8 * share / options.iterations);
+    });
+  }
+  r.element_locks.reset_counters();
+  r.link_locks.reset_counters();
+  const SchedulerConfig sched_config{o.threads, o.block_size, topology->info().numa_nodes,
+                                     plan.worker_nodes(), parse_pool_order(o.pool_order)};
+  auto scheduler = make_scheduler(o.scheduler, sched_config);
+  const auto t0 = Clock::now();
+  RefineCounters rc = r.refiner.run(*scheduler, r.tasks, o.threads, o.block_size,
+                                    o.trace.empty() ? 0 : it);
+  throw_if_interrupted();  // the stage was abandoned (core/base/interrupt.h)
+  if (rc.over_memory)
+    throw std::runtime_error(fmt::format(
+        "iteration {}: refinement stopped when its elements and links reached {:.3g} GB, "
+        "above the limit of {:.3g} GB (max_memory_gb; 0 means 3/4 of this machine's "
+        "memory): raise eps or min_area, or max_memory_gb",
+        it, static_cast<double>(rc.arena_bytes) / 1e9,
+        static_cast<double>(r.limits.max_bytes) / 1e9));
+  if (!o.trace.empty()) r.trace.insert(r.trace.end(), rc.trace.begin(), rc.trace.end());
+  is.refine_wall_s = seconds_since(t0) + r.reload_s;
+  is.refine_cpu_s = rc.busy_s;
+  is.refine_thread_cpu_s = rc.cpu_s;
+  is.task_cpu_ns = rc.tasks > 0 ? 1e9 * rc.cpu_s / static_cast<double>(rc.tasks) : 0.0;
+  is.idle_s = rc.idle_s;
+  is.peak_parallelism = rc.peak_parallelism;
+  is.load_s = rc.load_s + r.reload_s;
+  is.link_compact_s = rc.compact_s;
+  is.tasks = rc.tasks;
+  is.links_created = rc.links_created;
+  is.rays_cast = rc.rays_cast;
+  is.rays_skipped = rc.rays_skipped;
+  for (std::size_t w = 0; w < rc.per_worker.size(); ++w) {
+    const RefineCounters& c = rc.per_worker[w];
+    const int id = static_cast<int>(w);
+    RefinerStats rs;
+    rs.tasks = c.tasks;
+    rs.takes = c.takes;
+    rs.submits = c.submits;
+    rs.busy_s = c.busy_s;
+    rs.idle_s = c.idle_s;
+    rs.cpu_s = c.cpu_s;
+    rs.link_bytes = c.link_bytes;
+    rs.lock_wait_s = r.element_locks.wait_seconds(id) + r.link_locks.wait_seconds(id);
+    rs.rays_cast = c.rays_cast;
+    is.refiners.push_back(rs);
+  }
+  if (std::string w = descheduled_refiner_warning(is); !w.empty()) r.stats.warnings.push_back(w);
+  record_numa_stats(is, rc, plan, hierarchy, *topology, r.stats.warnings);
+  const SchedulerCounters sc = scheduler->counters();
+  is.steals = sc.steals;
+  is.scheduler_ops = sc.takes + sc.empty_takes + sc.submits;
+  is.lock_wait_s["scheduler"] = sc.lock_wait_s;
+  is.lock_wait_s["element"] = r.element_locks.wait_seconds();
+  is.lock_wait_s["link"] = r.link_locks.wait_seconds();
+  return rc;
+}
+
+// Before the propagation: the open fractions, the push weights and the row sums of the
+// new link set; returns every element, parents before children.
+std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
+  const SolverOptions& o = options;
+  const int it = is.iteration;
+  if (progress)
+    progress(fmt::format("iteration {}/{}: open fractions", it, o.iterations),
+             static_cast<double>(it - 1) / o.iterations + 0.8 / o.iterations);
+  std::vector<Element*> elements = hierarchy.elements();
+  const OpenStats open =
+      update_open_fractions(elements, hierarchy, rays, o.seed, o.threads, effects.visibility.on);
+  // Row sums measure transport, so their push shares it by geometry; the
+  // propagation's push shares light, by the sources' radiosities. A rescale of the
+  // row sums (clamp, normalize) must act on the propagation's own operator, so it
+  // measures them with the light weights (in a furnace, normalize is then exact).
+  PushWeights push_weights;
+  push_weights.update(elements, transport, o.threads);
+  const bool geometric_row_sums = row_sum_mode == RowSumMode::Keep;
+  push_weights.apply(geometric_row_sums);
+  is.rays_cast += open.rays_cast;
+  is.open_rays = open.rays_cast;
+  is.open_area_fraction = open.area_fraction;
+  const RowSumStats rs = apply_row_sums(elements, row_sum_mode, receiver_mode, hierarchy, rays,
+                                        o.row_sum_rays, o.seed, o.threads);
+  is.rays_cast += rs.rays_cast;
+  is.row_sum_min = rs.min;
+  is.row_sum_max = rs.max;
+  is.row_sum_mean = rs.area_mean;
+  is.row_sum_within_band = rs.within_band;
+  is.row_sum_corrected = rs.corrected;
+  if (geometric_row_sums) push_weights.apply(false);
+  return elements;
+}
+
+// The gather and push-pull sweeps of iteration `it`, to gather_tolerance when it is
+// the last one and to kIntermediateTolerance (or looser) before.
+void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<Element*>& elements,
+                                   IterationStats& is) {
+  const SolverOptions& o = options;
+  const double propagate_base = static_cast<double>(it - 1) / o.iterations + 0.8 / o.iterations;
+  const auto on_sweep = [&](int sweeps, double change) {
+    // The share of the stage is a guess: a sweep count of its own (the number of
+    // sweeps is known only at the end) that approaches the stage's end.
+    if (progress)
+      progress(fmt::format("iteration {}/{}: propagate, sweep {} ({:.1e})", it, o.iterations,
+                           sweeps, change),
+               propagate_base + 0.2 / o.iterations * sweeps / (sweeps + 10.0));
+  };
+  if (progress) progress(fmt::format("iteration {}/{}: propagate", it, o.iterations), propagate_base);
+  const PropagationResult pr =
+      propagate(elements, last ? o.gather_tolerance
+                               : std::max(o.gather_tolerance, kIntermediateTolerance),
+                r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep);
+  throw_if_interrupted();
+  is.gather_sweeps = pr.sweeps;
+  is.max_change = pr.last_change;
+  if (pr.diverged)
+    r.stats.warnings.push_back(fmt::format(
+        "iteration {}: propagation diverged after {} sweeps (transport row sums above 1)", it,
+        pr.sweeps));
+  else if (!pr.converged && effects.interreflection.on)
+    r.stats.warnings.push_back(fmt::format(
+        "iteration {}: propagation stopped at the cap of {} sweeps (change {:.3g})", it,
+        pr.sweeps, pr.last_change));
+}
+
+// The iteration's links, elements and memory.
+void Solver::Impl::count_links(int it, const std::vector<Element*>& elements, IterationStats& is,
+                               RunStats& stats) const {
+  std::uint64_t links = 0;
+  for (const Element* e : elements) links += e->links.size();
+  if (it == 1 && links == 0 && scene.faces.size() > 1)
+    stats.warnings.push_back(
+        "no link: no two polygons face each other, so nothing but emission is seen (a polygon "
+        "sends and receives light on the side its normal points to, by the right-hand rule "
+        "over its vertex order: are the faces' orientations flipped?)");
+  is.links = links;
+  is.elements = elements.size();
+  is.bytes["elements"] = hierarchy.element_bytes();
+  is.bytes["links"] = hierarchy.link_bytes();
+  is.peak_rss_bytes = peak_rss_bytes();
+}
+
+void Solver::Impl::write_run_trace(const std::vector<TraceRecord>& trace) const {
+  const nlohmann::json header = {
+      {"format", "hrad-trace"},
+      {"version", 1},
+      {"record_bytes", sizeof(TraceRecord)},
+      {"records", trace.size()},
+      {"fields", {"id:u64", "first_child:u64", "start_ns:u64",
+                  "duration_ns:u32 (top bit: first task of a block)", "children:u16",
+                  "worker:u8", "iteration:u8"}},
+      {"scene", scene.name},
+      {"threads", options.threads},
+      {"scheduler", options.scheduler},
+      {"block_size", options.block_size},
+  };
+  write_trace(options.trace, header.dump(), trace);
+}
+
+const RayScene& Solver::ray_scene() const { return impl_->rays; }
+
+RenderMesh Solver::render_mesh(Shading shading) const {
+  // The leaves, shaded as core/output/smooth_shading.h describes (smooth: vertex values
+  // shared across leaves and polygons of one surface, T-vertices resolved).
+  std::vector<ShadingPatch> patches;
+  for (const Element* e : leaf_surfaces(impl_->hierarchy.root())) {
+    ShadingPatch p;
+    p.corners = e->corners();
+    p.centre = e->center;
+    p.normal = e->normal;
+    p.material = e->material;
+    p.area = e->area;
+    p.open = open_weight(*e);
+    p.radiosity = e->B;
+    p.reflectance = e->rho;
+    patches.push_back(p);
+  }
+  return shade_patches(patches, shading, 1e-7 * impl_->scene.bounds().diagonal());
+}
+
+std::vector<std::pair<std::uint64_t, std::uint64_t>> Solver::link_ids() const {
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> ids;
+  for (const Element* e : impl_->hierarchy.elements())
+    for (const Link& l : e->links) ids.emplace_back(e->id, l.source->id);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+std::vector<Solver::Leaf> Solver::leaves() const {
+  std::vector<Leaf> out;
+  for (const Element* e : leaf_surfaces(impl_->hierarchy.root()))
+    out.push_back(Leaf{e->id, e->face, e->area, e->center, e->B});
+  std::sort(out.begin(), out.end(), [](const Leaf& a, const Leaf& b) { return a.id < b.id; });
+  return out;
+}
+
+std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
+  // Final gather: irradiance = sum over leaf surfaces of B_s x F(point -> s) x V,
+  // with the exact point-to-polygon form factor and the kernel-weighted visibility of
+  // Transport::visibility_from_point, from rays whose random numbers hash the probe
+  // index and the element id.
+  const Impl& m = *impl_;
+  const std::vector<const Element*> leaves = leaf_surfaces(m.hierarchy.root());
+  const int k = std::max(m.options.visibility_rays, 8);
+  std::vector<Rgb> out(probes.size(), Rgb::Zero());
+  const auto n = static_cast<std::ptrdiff_t>(probes.size());
+#pragma omp parallel for num_threads(m.options.threads) schedule(dynamic, 1)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const Probe& pr = probes[static_cast<std::size_t>(i)];
+    Rgb sum = Rgb::Zero();
+    for (const Element* s : leaves) {
+      if ((s->B <= 0).all()) continue;
+      const double f = point_to_polygon_ff(pr.p, pr.n, s->corners());
+      if (f <= 0) continue;
+      const std::uint64_t key = child_id(s->id, static_cast<std::uint32_t>(i) ^ 0x5EEDu);
+      const double v = m.transport.visibility_from_point(pr.p, pr.n, *s, key, k);
+      sum += f * v * s->B;
+    }
+    out[static_cast<std::size_t>(i)] = sum;
+  }
+  return out;
+}
+
+}  // namespace hrad

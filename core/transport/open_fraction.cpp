@@ -1,0 +1,128 @@
+#include "core/transport/open_fraction.h"
+
+#include "core/base/hash.h"
+#include "core/hierarchy/hierarchy.h"
+#include "core/raycast/ray_scene.h"
+#include "core/transport/transport.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hrad {
+
+namespace {
+
+// Whether the first surface along the ray is the back of a face. Two faces that
+// coincide (a box pushed into a corner: its side and the wall lie in one plane)
+// are met at the same distance, and the ray query reports either; a back face there
+// wins, since the point is inside the box whichever is reported. Adds the rays it
+// cast (one or two) to `cast`. The two sides of a two-sided sheet (twins, see
+// core/raycast/face_twins.h) are one surface here: the ray query reports the side whose front
+// it meets, and the second look ignores both.
+bool first_hit_is_back(const Vec3& at, const Vec3& dir, std::uint32_t own, const Hierarchy& h,
+                       const RayScene& rays, std::uint64_t& cast) {
+  ++cast;
+  const auto hit = rays.intersect(at, dir, std::numeric_limits<double>::infinity(), own);
+  if (!hit) return false;
+  if (h.face_normal(hit->prim).dot(dir) > 0) return true;
+  ++cast;
+  // Look again just around the front hit, without it, for a coincident back face.
+  const double back_off = 4 * RayScene::kEndpointEpsilon * rays.scale() / dir.norm();
+  // (Not from behind the start: the point's own face would be met there.)
+  const double start = std::max(hit->t - back_off, 0.0);
+  const auto twin = rays.intersect(at + start * dir, dir, hit->t - start + back_off, hit->prim);
+  return twin && h.face_normal(twin->prim).dot(dir) > 0;
+}
+
+// Whether another face lies in the point's own plane facing it: the two faces of a
+// contact where each solid has its own face (a box's bottom on the floor). Each sees
+// the other at distance zero, which the rays' end-point exclusion skips; past it the
+// floor under the box meets the box's inside (a back face: closed in), but the box's
+// bottom sees only the void under the floor and counted as open. It then gathered
+// light as a member of its box's cluster and showed it to the floor beside the box:
+// with the bottoms closed in, the cluttered furnace's median error at 32 random probes
+// went from 0.94 % to 0.26 % and its bias from -0.8 % to +0.2 % (rho 0.9). One short
+// ray along the normal through the point's plane, from just behind it, finds such a
+// twin. The point's own back face (the other side of a two-sided sheet) is ignored with
+// its face: it is no contact. Adds the ray to `cast`.
+bool facing_twin(const Vec3& at, const Vec3& n, std::uint32_t own, const Hierarchy& h,
+                 const RayScene& rays, std::uint64_t& cast) {
+  ++cast;
+  const double reach = 4 * RayScene::kEndpointEpsilon * rays.scale();
+  const auto hit = rays.intersect(at - reach * n, n, 2 * reach, own);
+  return hit && h.face_normal(hit->prim).dot(n) < 0;
+}
+
+}  // namespace
+
+double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, const RayScene& rays,
+                              std::uint64_t seed, std::uint64_t* rays_cast) {
+  const Vec3 u = e.normal.unitOrthogonal();
+  const Vec3 v = e.normal.cross(u);
+  const std::uint64_t key = child_id(e.id, 0x0BE7u) ^ seed;
+  constexpr int kSide = 4;  // kOpenPoints = kSide^2 strata over the element
+  static_assert(kSide * kSide == kOpenPoints);
+  int open = 0;
+  std::uint64_t cast = 0;
+  for (int p = 0; p < kOpenPoints; ++p) {
+    const auto i = static_cast<std::uint64_t>(p * (3 + 2 * kOpenRays));
+    const double u1 = (p % kSide + hashed_uniform(key, i)) / kSide;
+    const double u2 = (p / kSide + hashed_uniform(key, i + 1)) / kSide;
+    const Vec3 at = hierarchy.sample_point(e, u1, u2, hashed_uniform(key, i + 2));
+    if (facing_twin(at, e.normal, e.face, hierarchy, rays, cast)) continue;  // in contact
+    int back = 0;
+    // Stop once the majority is decided (most points: after two rays).
+    for (int k = 0; k < kOpenRays && 2 * back <= kOpenRays && 2 * (k - back) <= kOpenRays; ++k) {
+      const auto j = i + 3 + static_cast<std::uint64_t>(2 * k);
+      // Directions stratified in azimuth, cosine-distributed in elevation.
+      const Vec3 dir = cosine_direction(e.normal, u, v, hashed_uniform(key, j),
+                                        (k + hashed_uniform(key, j + 1)) / kOpenRays);
+      if (first_hit_is_back(at, dir, e.face, hierarchy, rays, cast)) ++back;
+    }
+    if (2 * back <= kOpenRays) ++open;
+  }
+  if (rays_cast) *rays_cast += cast;
+  return static_cast<double>(open) / kOpenPoints;
+}
+
+OpenStats update_open_fractions(const std::vector<Element*>& elements,
+                                const Hierarchy& hierarchy, const RayScene& rays,
+                                std::uint64_t seed, int threads, bool possible) {
+  OpenStats st;
+  std::uint64_t cast = 0;
+  const auto n = static_cast<std::ptrdiff_t>(elements.size());
+  if (!possible) {
+    for (Element* e : elements) e->open = 1;
+    return st;
+  }
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) reduction(+ : cast)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    Element& e = *elements[static_cast<std::size_t>(i)];
+    if (e.is_cluster() || !e.child_span().empty() || e.open >= 0) continue;
+    e.open = static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed, &cast));
+  }
+  // Children after parents in `elements`: walk backwards.
+  for (std::ptrdiff_t i = n; i-- > 0;) {
+    Element& e = *elements[static_cast<std::size_t>(i)];
+    const auto kids = e.child_span();
+    if (kids.empty()) {
+      if (e.is_cluster()) e.open = 1;  // an empty cluster: nothing to close in
+      continue;
+    }
+    double a = 0;
+    for (const Element& c : kids) a += c.area * static_cast<double>(c.open);
+    e.open = e.area > 0 ? static_cast<float>(std::min(1.0, a / e.area)) : 1.0f;
+  }
+  st.rays_cast = cast;
+  double area = 0, open = 0;
+  for (const Element* e : elements) {
+    if (e->is_cluster() || !e->child_span().empty()) continue;
+    area += e->area;
+    open += e->area * static_cast<double>(e->open);
+  }
+  if (area > 0) st.area_fraction = open / area;
+  return st;
+}
+
+}  // namespace hrad
