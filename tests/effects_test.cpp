@@ -124,9 +124,7 @@ TEST(EffectsAnalysis, DecidesEachEffectWithAReason) {
 
   o.effects = "all";
   const Effects forced = analyse_effects(room(test::material(0, 0), false), o);
-  for (const Effect* e : {&forced.visibility, &forced.interreflection, &forced.colour,
-                          &forced.emission, &forced.iterations})
-    EXPECT_TRUE(e->on) << e->reason;
+  for (const auto& [name, e] : forced.table()) EXPECT_TRUE(e->on) << name << ": " << e->reason;
 }
 
 TEST(EffectsAnalysis, OptionsAreChecked) {
@@ -150,6 +148,11 @@ TEST(EffectsAnalysis, StatsJsonReportsEveryEffect) {
   const nlohmann::json j = stats_to_json(s);
   EXPECT_EQ(j["effects"]["visibility"]["on"], false);
   EXPECT_EQ(j["effects"]["visibility"]["reason"], "convex");
+  ASSERT_EQ(j["effects"].size(), s.effects.table().size());
+  for (const auto& [name, e] : s.effects.table()) {
+    ASSERT_TRUE(j["effects"].contains(name)) << name;
+    EXPECT_EQ(j["effects"][name]["on"], e->on) << name;
+  }
   for (const char* k : {"interreflection", "colour", "emission", "iterations"})
     EXPECT_EQ(j["effects"][k]["on"], true) << k;
   EXPECT_EQ(j["totals"]["iterations_run"], 2);

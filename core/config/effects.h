@@ -33,7 +33,9 @@
 #include "core/config/options.h"
 #include "core/scene/scene.h"
 
+#include <array>
 #include <string>
+#include <utility>
 
 namespace hrad {
 
@@ -49,6 +51,16 @@ struct Effects {
   Effect colour;           ///< three colour channels (off: one grey channel, copied)
   Effect emission;         ///< any light at all (off: the solution is zero, nothing is done)
   Effect iterations;       ///< every refinement iteration asked for (off: stopped early)
+
+  /// Every effect with its name (stats.json's "effects" keys), in the order above: what
+  /// reports and checks effects walks, so that a new effect is one field and one row.
+  [[nodiscard]] std::array<std::pair<const char*, const Effect*>, 5> table() const {
+    return {{{"visibility", &visibility},
+             {"interreflection", &interreflection},
+             {"colour", &colour},
+             {"emission", &emission},
+             {"iterations", &iterations}}};
+  }
 };
 
 enum class EffectsMode : std::uint8_t {

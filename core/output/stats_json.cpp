@@ -85,15 +85,12 @@ nlohmann::json totals_json(const RunStats& stats) {
 nlohmann::json stats_to_json(const RunStats& stats) {
   nlohmann::json iterations = nlohmann::json::array();
   for (const IterationStats& it : stats.iterations) iterations.push_back(iteration_json(it));
+  nlohmann::json effects = nlohmann::json::object();
+  for (const auto& [name, effect] : stats.effects.table()) effects[name] = effect_json(*effect);
   return {
       {"iterations", std::move(iterations)},
       {"totals", totals_json(stats)},
-      {"effects",
-       {{"visibility", effect_json(stats.effects.visibility)},
-        {"interreflection", effect_json(stats.effects.interreflection)},
-        {"colour", effect_json(stats.effects.colour)},
-        {"emission", effect_json(stats.effects.emission)},
-        {"iterations", effect_json(stats.effects.iterations)}}},
+      {"effects", std::move(effects)},
       {"warnings", stats.warnings},
   };
 }
