@@ -5,7 +5,7 @@
 // | key                 | type   | default      | meaning                                                    |
 // |---------------------|--------|--------------|------------------------------------------------------------|
 // | scheduler           | string | "stack"      | refinement task order (a name in scheduler_names())        |
-// | block_size          | int    | 10           | tasks a refiner takes (and buffers) per scheduler visit     |
+// | block_size          | int    | 10           | tasks a refiner takes (and buffers) per scheduler visit    |
 // | threads             | int    | 1            | refiner threads                                            |
 // | oracle              | string | "bf"         | refinement oracle (a name in oracle_names())               |
 // | eps                 | double | 1e-4         | oracle threshold, relative to total emitted power          |
@@ -16,39 +16,42 @@
 // | placement           | string | "first-touch"| memory placement (first-touch, interleave, node0)          |
 // | pool_order          | string | "submitted"  | central pools sort each batch: submitted, address, subtree |
 // | seed                | uint64 | 1            | mixed into every per-link random number                    |
-// | gather_tolerance    | double | 1e-6         | propagation stops when the estimated remaining change is    |
+// | gather_tolerance    | double | 1e-6         | propagation stops when the estimated remaining change is   |
 // |                     |        |              | below this fraction of the largest radiosity (iterations   |
-// |                     |        |              | before the last: max(this, 1e-4), core/solver/solver.cpp)         |
+// |                     |        |              | before the last: max(this, 1e-4), core/solver/solver.cpp)  |
 // | max_gather_sweeps   | int    | 100000       | hard cap on gather + push-pull sweeps per iteration        |
 // | cluster_model       | string | "directional"| cluster projected areas: isotropic (A/4) or directional    |
 // | cluster_receiver    | string | "isotropic"  | how a cluster hands on what it gathers: isotropic, cosine  |
 // | row_sums            | string | "keep"       | leaf row-sum correction: keep, clamp, normalize            |
-// |                     |        |              | (see core/solver/row_sums.h)                                      |
+// |                     |        |              | (see core/solver/row_sums.h)                               |
 // | row_sum_rays        | int    | 64           | escape rays per leaf for row_sums = normalize              |
 // | locks_pool          | int    | 0            | hashed locks per class (0: twice the refiner count)        |
 // | trace               | string | ""           | file to record a task trace to ("" = none)                 |
 // | image_width         | int    | 640          | render.png width in pixels (height from the aspect 4:3)    |
-// | effects             | string | "auto"       | auto: skip what the scene does not need (core/config/effects.h);  |
-// |                     |        |              | all: compute every effect regardless                       |
+// | effects             | string | "auto"       | auto: skip what the scene does not need                    |
+// |                     |        |              | (core/config/effects.h); all: compute every effect         |
 // | shaft_culling       | string | "off"        | on: V = 1 without rays for pairs whose shaft holds no      |
-// |                     |        |              | polygon (core/transport/shaft.h); off: always cast the rays          |
-// | decision_rays       | string | "shared"     | shared: an accepted link keeps the visibility estimate its  |
+// |                     |        |              | polygon (core/transport/shaft.h); off: always cast rays    |
+// | decision_rays       | string | "shared"     | shared: an accepted link keeps the visibility estimate its |
 // |                     |        |              | oracle decided on; independent: where that decision        |
-// |                     |        |              | depended on it, the estimate is drawn again (core/solver/refiner.h)|
+// |                     |        |              | depended on it, the estimate is drawn again                |
+// |                     |        |              | (core/solver/refiner.h)                                    |
 // | max_memory_gb       | double | 0            | refinement stops with an error when its elements and links |
 // |                     |        |              | pass this (0: 3/4 of the machine's physical memory)        |
 // | camera              | string | ""           | render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=..][:fov=..] |
-// |                     |        |              | (core/scene/camera_spec.h), "auto", or "" (the scene's own, else |
-// |                     |        |              | automatic)                                                 |
-// | sides               | string | "auto"       | back faces for two-sided materials (core/scene/back_faces.h):    |
-// |                     |        |              | auto (MGF sides 2), one (none), two (every face)           |
+// |                     |        |              | (core/scene/camera_spec.h), "auto", or "" (the scene's     |
+// |                     |        |              | own, else automatic)                                       |
+// | sides               | string | "auto"       | back faces for two-sided materials                         |
+// |                     |        |              | (core/scene/back_faces.h): auto (MGF sides 2), one (none), |
+// |                     |        |              | two (every face)                                           |
 // | segments            | int    | 0            | divisions of a circle for MGF sph, cyl, cone, ring, torus: |
-// |                     |        |              | 0 by the shape's size (core/scene/mgf/mgf_segments.h), or 3..4096    |
+// |                     |        |              | 0 by the shape's size (core/scene/mgf/mgf_segments.h),     |
+// |                     |        |              | or 3..4096                                                 |
 // | shading             | string | "smooth"     | render.png and solution.ply: smooth (vertex values shared  |
 // |                     |        |              | across leaves of one surface) or flat                      |
-// |                     |        |              | (core/output/smooth_shading.h)                                    |
+// |                     |        |              | (core/output/smooth_shading.h)                             |
 // | exposure            | double | 0            | render.png's exposure, in stops over the automatic one     |
-// |                     |        |              | (core/output/render.h): +1 twice as bright, -1 half               |
+// |                     |        |              | (core/output/render.h): +1 twice as bright, -1 half        |
 #pragma once
 
 #include <cstdint>
