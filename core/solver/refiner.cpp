@@ -150,7 +150,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
     }
   }
   const Step step =
-      pc == PairClass::Regular ? judge(task, w, est) : open_pair(pc, task.priority, w, est);
+      pc == PairClass::Regular ? judge(task, w, est) : open_pair(pc, task, w, est);
   if (step.drop) return;
   if (step.accept) {
     w.accepted.emplace_back(&r, Link{&s, static_cast<float>(est.form_factor),
@@ -175,12 +175,12 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
 // A pair that must be opened (one end inside the other, or a near-field pair with a
 // cluster end): the end that can be opened is, and a pair that cannot be opened is
 // accepted with its transport (near field) or carries none (overlapping).
-Refiner::Step Refiner::open_pair(PairClass pc, double priority, Worker& w, LinkEstimate& est) {
+Refiner::Step Refiner::open_pair(PairClass pc, const Task& task, Worker& w, LinkEstimate& est) {
   const Element& r = *est.receiver;
   const Element& s = *est.source;
   const bool can_r = splittable(r), can_s = splittable(s);
   Step st;
-  st.error = priority;
+  st.error = task.priority;
   if (pc == PairClass::ReceiverInside) {
     st.split_r = false;  // s contains r: open s
     st.accept = !can_s;

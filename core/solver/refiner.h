@@ -149,7 +149,7 @@ class Refiner {
   // One task: classify, estimate and judge the pair (open_pair or judge), then store
   // its link or split one end into child tasks.
   void process(const Task& task, Worker& w, std::vector<Task>& out);
-  Step open_pair(PairClass pc, double priority, Worker& w, LinkEstimate& est);
+  Step open_pair(PairClass pc, const Task& task, Worker& w, LinkEstimate& est);
   Step judge(const Task& task, Worker& w, LinkEstimate& est);
   void store_links(Worker& w, bool wait);
   [[nodiscard]] bool splittable(const Element& e) const;

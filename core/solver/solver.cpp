@@ -82,13 +82,15 @@ Hierarchy build_hierarchy(const Scene& scene, int threads, const ArenaPlacement&
 // What one Solver::run keeps from stage to stage.
 struct RunState {
   RunState(Hierarchy& hierarchy, const Transport& transport, const IOracle& oracle,
-           const RefineLimits& l, int pool, int threads)
+           const RefineLimits& l, const SchedulerConfig& s, int pool, int threads)
       : limits(l),
+        sched_config(s),
         element_locks(pool, threads),
         link_locks(pool, threads),
         refiner(hierarchy, transport, oracle, limits, element_locks, link_locks) {}
   RunStats stats;
   RefineLimits limits;
+  SchedulerConfig sched_config;  ///< each iteration's scheduler is made from it
   LockPool element_locks;
   LockPool link_locks;
   Refiner refiner;
@@ -142,7 +144,7 @@ struct Solver::Impl {
   }
 
   // The stages of run(), in order (each iteration: refine, prepare, propagate, count).
-  void warn_about_scene(RunStats& stats, bool solve) const;
+  void warn_about_scene(RunStats& stats) const;
   RefineCounters refine(RunState& r, int it, IterationStats& is);
   std::vector<Element*> prepare_propagation(IterationStats& is);
   void propagate_links(RunState& r, int it, bool last, std::vector<Element*>& elements,
@@ -150,6 +152,13 @@ struct Solver::Impl {
   void count_links(int it, const std::vector<Element*>& elements, IterationStats& is,
                    RunStats& stats) const;
   void write_run_trace(const std::vector<TraceRecord>& trace) const;
+  /// Where iteration `it`'s refinement and its propagation start on the progress scale.
+  [[nodiscard]] double refine_progress(int it) const {
+    return static_cast<double>(it - 1) / options.iterations;
+  }
+  [[nodiscard]] double propagate_progress(int it) const {
+    return refine_progress(it) + 0.8 / options.iterations;
+  }
 };
 
 Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress) {
@@ -172,7 +181,9 @@ RunStats Solver::run() {
                             memory_limit_bytes(o.max_memory_gb),
                             m.total_area > 0 ? m.emitted_power / m.total_area : 0.0,
                             o.decision_rays == "independent"};
-  RunState r(m.hierarchy, m.transport, *m.oracle, limits,
+  const SchedulerConfig sched_config{o.threads, o.block_size, m.topology->info().numa_nodes,
+                                     m.plan.worker_nodes(), parse_pool_order(o.pool_order)};
+  RunState r(m.hierarchy, m.transport, *m.oracle, limits, sched_config,
              o.locks_pool > 0 ? o.locks_pool : 2 * o.threads, o.threads);
   RunStats& stats = r.stats;
   r.refiner.set_binding(m.topology.get(), &m.plan);
@@ -180,7 +191,7 @@ RunStats Solver::run() {
   stats.effects = m.effects;
   const bool auto_effects = parse_effects_mode(o.effects) == EffectsMode::Auto;
   const bool solve = m.effects.emission.on;
-  m.warn_about_scene(stats, solve);
+  m.warn_about_scene(stats);
   if (solve) r.tasks.push_back(Task{&m.hierarchy.root(), &m.hierarchy.root()});
   // Interreflection off (every reflectance 0): one sweep gives B = E exactly.
   r.max_sweeps = m.effects.interreflection.on ? o.max_gather_sweeps : 1;
@@ -230,7 +241,8 @@ RunStats Solver::run() {
   return std::move(stats);
 }
 
-void Solver::Impl::warn_about_scene(RunStats& stats, bool solve) const {
+void Solver::Impl::warn_about_scene(RunStats& stats) const {
+  const bool solve = effects.emission.on;
   if (emitted_power <= 0)
     stats.warnings.push_back(solve ? "scene has no emitter: the solution is zero (solved anyway: "
                                      "effects = all)"
@@ -255,7 +267,7 @@ void Solver::Impl::warn_about_scene(RunStats& stats, bool solve) const {
 // the previous iteration's links).
 RefineCounters Solver::Impl::refine(RunState& r, int it, IterationStats& is) {
   const SolverOptions& o = options;
-  const double base = static_cast<double>(it - 1) / o.iterations;
+  const double base = refine_progress(it);
   if (progress) {
     progress(fmt::format("iteration {}/{}: refine", it, o.iterations), base);
     // During the stage: tasks examined and links accepted so far. The share done is
@@ -274,9 +286,7 @@ RefineCounters Solver::Impl::refine(RunState& r, int it, IterationStats& is) {
   }
   r.element_locks.reset_counters();
   r.link_locks.reset_counters();
-  const SchedulerConfig sched_config{o.threads, o.block_size, topology->info().numa_nodes,
-                                     plan.worker_nodes(), parse_pool_order(o.pool_order)};
-  auto scheduler = make_scheduler(o.scheduler, sched_config);
+  auto scheduler = make_scheduler(o.scheduler, r.sched_config);
   const auto t0 = Clock::now();
   RefineCounters rc = r.refiner.run(*scheduler, r.tasks, o.threads, o.block_size,
                                     o.trace.empty() ? 0 : it);
@@ -334,7 +344,7 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   const int it = is.iteration;
   if (progress)
     progress(fmt::format("iteration {}/{}: open fractions", it, o.iterations),
-             static_cast<double>(it - 1) / o.iterations + 0.8 / o.iterations);
+             propagate_progress(it));
   std::vector<Element*> elements = hierarchy.elements();
   const OpenStats open =
       update_open_fractions(elements, hierarchy, rays, o.seed, o.threads, effects.visibility.on);
@@ -366,7 +376,7 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
 void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<Element*>& elements,
                                    IterationStats& is) {
   const SolverOptions& o = options;
-  const double propagate_base = static_cast<double>(it - 1) / o.iterations + 0.8 / o.iterations;
+  const double propagate_base = propagate_progress(it);
   const auto on_sweep = [&](int sweeps, double change) {
     // The share of the stage is a guess: a sweep count of its own (the number of
     // sweeps is known only at the end) that approaches the stage's end.
