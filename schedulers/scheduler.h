@@ -2,8 +2,8 @@
 //
 // A task is a candidate link r <- s. Refiners (worker ids 0..threads-1) take up to
 // a block of tasks, refine them, and submit the tasks they created in one call.
-// The driver (core/solver/refiner.cpp) owns termination: it counts tasks submitted but not
-// finished, so a scheduler only has to hand out what it holds.
+// The stage driver (core/stage/run_stage.h) owns termination: it counts tasks submitted
+// but not finished, so a scheduler only has to hand out what it holds.
 //
 // Contract for every scheduler:
 //  - every task submitted is returned by take() or take_own() exactly once;

@@ -7,6 +7,7 @@
 #include "core/parallel/topology.h"
 #include "core/scene/builtin_scenes.h"
 #include "core/solver/solver.h"
+#include "core/stage/run_stage.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
 #include "tests/env_guard.h"
@@ -65,43 +66,43 @@ TEST(SchedLocality, ServesTheRefinersOwnNodeFirst) {
 }
 
 // Exactly once on three nodes: a task tree (task i creates children 3i+1..3i+3 below
-// kTasks), receivers spread over the nodes, four refiners driven as core/solver/refiner.cpp
-// drives them.
+// kTasks; its number rides in `priority`, as the driver sets the ids), receivers spread
+// over the nodes, four workers on the stage driver refinement runs on.
+struct ThreeNodeTree {
+  static constexpr std::uint64_t kTasks = 30000;
+  std::vector<Element>& elements;
+  std::vector<std::atomic<int>> seen = std::vector<std::atomic<int>>(kTasks);
+  Task task(std::uint64_t k) {
+    Task t = task_on(elements[k % 3], 0);
+    t.priority = static_cast<float>(k);
+    return t;
+  }
+  void begin(int, int) {}
+  void process(int, const Task& t, std::vector<Task>& out) {
+    const auto id = static_cast<std::uint64_t>(t.priority);
+    seen[id].fetch_add(1, std::memory_order_relaxed);
+    for (std::uint64_t k = 3 * id + 1; k <= 3 * id + 3 && k < kTasks; ++k) out.push_back(task(k));
+  }
+  std::uint64_t end_block(int, std::size_t) { return 0; }
+  std::uint64_t bytes_held(int) { return 0; }
+  void end_loop(int) {}
+  void finish(int) {}
+};
+
 TEST(SchedLocality, EveryTaskExactlyOnceOnThreeNodes) {
-  constexpr std::uint64_t kTasks = 30000;
   std::vector<Element> elements(3);
   for (std::size_t n = 0; n < 3; ++n) elements[n].home_node = static_cast<std::uint16_t>(n);
   for (int block : {1, 7}) {
     auto s = make_scheduler("locality", SchedulerConfig{4, block, 3, {0, 1, 2, 0}});
-    std::vector<std::atomic<int>> seen(kTasks);
-    std::atomic<std::int64_t> pending{1};
-    s->submit(0, std::vector<Task>{task_on(elements[0], 0)});
-#pragma omp parallel num_threads(4)
-    {
-      const int w = omp_get_thread_num();
-      std::vector<Task> in(static_cast<std::size_t>(block)), out;
-      for (;;) {
-        const std::size_t n = s->take(w, in);
-        if (n == 0) {
-          if (pending.load(std::memory_order_acquire) == 0) break;
-          std::this_thread::yield();
-          continue;
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-          const std::uint64_t id = in[i].id;
-          seen[id].fetch_add(1, std::memory_order_relaxed);
-          for (std::uint64_t k = 3 * id + 1; k <= 3 * id + 3 && k < kTasks; ++k)
-            out.push_back(task_on(elements[k % 3], k));
-        }
-        if (!out.empty()) {
-          pending.fetch_add(static_cast<std::int64_t>(out.size()), std::memory_order_acq_rel);
-          s->submit(w, out);
-          out.clear();
-        }
-        pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel);
-      }
-    }
-    for (std::uint64_t i = 0; i < kTasks; ++i) ASSERT_EQ(seen[i].load(), 1) << "task " << i;
+    ThreeNodeTree body{elements};
+    std::vector<Task> initial{body.task(0)};
+    StageConfig cfg;
+    cfg.threads = 4;
+    cfg.block_size = block;
+    cfg.time_limit_s = 60;  // a lost task: fail, not hang
+    EXPECT_FALSE(run_stage(*s, initial, cfg, body).timed_out);
+    for (std::uint64_t i = 0; i < ThreeNodeTree::kTasks; ++i)
+      ASSERT_EQ(body.seen[i].load(), 1) << "task " << i;
   }
 }
 

@@ -1,6 +1,7 @@
-// Every registered scheduler, driven the way core/solver/refiner.cpp drives it (an OpenMP team,
-// a pending counter for termination), on a synthetic task tree whose task ids are encoded
-// in the receiver pointer bits (never dereferenced).
+// Every registered scheduler, driven by the stage driver refinement runs on
+// (core/stage/run_stage.h), on a synthetic task tree whose task ids are encoded in the
+// receiver pointer bits (never dereferenced).
+#include "core/stage/run_stage.h"
 #include "schedulers/scheduler.h"
 
 #include <gtest/gtest.h>
@@ -57,83 +58,110 @@ Tree make_tree(std::uint32_t roots, std::uint32_t target, int max_depth, std::ui
 
 float priority_of(std::uint32_t id) { return static_cast<float>((id * 2654435761u) % 1024); }
 
+// Tree expansion as a stage body (core/stage/stage_body.h): each task counts its run
+// and creates its children; the stage driver (core/stage/run_stage.h) that refinement
+// runs on does the rest, so what is tested here is what a solve runs.
+struct TreeBody {
+  const Tree& tree;
+  std::vector<std::atomic<std::uint32_t>>& runs;
+  std::atomic<std::uint64_t> executed{0};
+  std::atomic<int> begun{0};
+  std::vector<std::size_t> largest;  // per worker: the largest block it was handed
+
+  void begin(int, int) { begun.fetch_add(1, std::memory_order_relaxed); }
+  void process(int, const Task& t, std::vector<Task>& out) {
+    const std::uint32_t id = id_of(t);
+    if (id >= tree.size()) return;  // counted as missing below
+    runs[id].fetch_add(1, std::memory_order_relaxed);
+    executed.fetch_add(1, std::memory_order_relaxed);
+    for (std::uint32_t c = 0; c < tree.count[id]; ++c) {
+      const std::uint32_t child = tree.first[id] + c;
+      out.push_back(task_for(child, priority_of(child)));
+    }
+  }
+  std::uint64_t end_block(int w, std::size_t n) {
+    auto& l = largest[static_cast<std::size_t>(w)];
+    l = std::max(l, n);
+    return 0;
+  }
+  std::uint64_t bytes_held(int) { return 0; }
+  void end_loop(int) {}
+  void finish(int) {}
+};
+
 struct RunResult {
   std::uint64_t executed = 0;
   std::size_t largest_take = 0;
   int team_size = 0;
+  bool timed_out = false;
 };
 
-// The driver loop of Refiner::run, with tree expansion in place of refinement. The block
-// buffer is larger than block_size so that the scheduler's own cap is what is tested.
-// With `foreign_roots` > 0, the last that many roots are not loaded up front: a thread
-// outside the team submits them one by one (as worker 0, like a solver thread would)
-// while the refiners run; it holds one unit of `pending` until its last submit.
 RunResult run_tree(IScheduler& s, const Tree& tree, int threads, int block_size,
-                   std::vector<std::atomic<std::uint32_t>>& runs,
-                   std::uint32_t foreign_roots = 0) {
+                   std::vector<std::atomic<std::uint32_t>>& runs) {
+  std::vector<Task> initial;
+  for (std::uint32_t r = 0; r < tree.roots; ++r) initial.push_back(task_for(r, priority_of(r)));
+  TreeBody body{tree, runs};
+  body.largest.assign(static_cast<std::size_t>(threads), 0);
+  StageConfig config;
+  config.threads = threads;
+  config.block_size = block_size;
+  config.time_limit_s = 60;  // a lost task keeps the stage from ending: fail, not hang
+  const StageCounters c = run_stage(s, initial, config, body);
+  return {body.executed.load(), *std::max_element(body.largest.begin(), body.largest.end()),
+          body.begun.load(), c.timed_out};
+}
+
+// A thread outside the team submits roots while two workers take and expand tasks
+// (IScheduler allows submit() from a thread that is no worker; the stage driver never
+// does it, so this is the scheduler's contract alone, with its own loop). The last
+// `foreign_roots` roots go through that thread, one by one; it holds one unit of
+// `pending` until its last submit. For `stealing` these go through its inbox, never
+// onto a deque another thread owns.
+std::uint64_t run_tree_fed_from_outside(IScheduler& s, const Tree& tree, std::uint32_t foreign_roots,
+                                        std::vector<std::atomic<std::uint32_t>>& runs) {
   const std::uint32_t loaded = tree.roots - foreign_roots;
   std::vector<Task> initial;
   for (std::uint32_t r = 0; r < loaded; ++r) initial.push_back(task_for(r, priority_of(r)));
-  std::atomic<std::int64_t> pending{static_cast<std::int64_t>(loaded + (foreign_roots > 0))};
+  std::atomic<std::int64_t> pending{static_cast<std::int64_t>(loaded + 1)};
   std::atomic<std::uint64_t> executed{0};
-  std::atomic<std::size_t> largest{0};
-  std::atomic<int> team{0};
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   s.submit(0, initial);
-  std::thread foreign;
-  if (foreign_roots > 0) {
-    foreign = std::thread([&] {
-      for (std::uint32_t r = loaded; r < tree.roots; ++r) {
-        std::this_thread::sleep_for(std::chrono::microseconds(300));
-        pending.fetch_add(1, std::memory_order_acq_rel);
-        s.submit(0, std::vector<Task>{task_for(r, priority_of(r))});
-      }
-      pending.fetch_sub(1, std::memory_order_acq_rel);
-    });
-  }
-
-#pragma omp parallel num_threads(threads)
+  std::thread foreign([&] {
+    for (std::uint32_t r = loaded; r < tree.roots; ++r) {
+      std::this_thread::sleep_for(std::chrono::microseconds(300));
+      pending.fetch_add(1, std::memory_order_acq_rel);
+      s.submit(0, std::vector<Task>{task_for(r, priority_of(r))});
+    }
+    pending.fetch_sub(1, std::memory_order_acq_rel);
+  });
+#pragma omp parallel num_threads(2)
   {
     const int w = omp_get_thread_num();
-    if (w == 0) team.store(omp_get_num_threads(), std::memory_order_relaxed);
-    std::vector<Task> block(static_cast<std::size_t>(block_size) + 3);
-    std::vector<Task> out;
-    std::size_t my_largest = 0;
-    std::uint64_t my_executed = 0;
+    std::vector<Task> block(7), out;
     for (;;) {
       const std::size_t n = s.take(w, block);
       if (n == 0) {
         if (pending.load(std::memory_order_acquire) == 0) break;
-        // A lost task would keep `pending` above zero forever: fail instead of hanging.
-        if (std::chrono::steady_clock::now() > deadline) break;
+        if (std::chrono::steady_clock::now() > deadline) break;  // a lost task: fail, not hang
         std::this_thread::yield();
         continue;
       }
-      my_largest = std::max(my_largest, n);
       for (std::size_t i = 0; i < n; ++i) {
         const std::uint32_t id = id_of(block[i]);
-        if (id >= tree.size()) continue;  // counted as missing below
+        if (id >= tree.size()) continue;
         runs[id].fetch_add(1, std::memory_order_relaxed);
-        ++my_executed;
-        for (std::uint32_t c = 0; c < tree.count[id]; ++c) {
-          const std::uint32_t child = tree.first[id] + c;
-          out.push_back(task_for(child, priority_of(child)));
-        }
+        executed.fetch_add(1, std::memory_order_relaxed);
+        for (std::uint32_t c = 0; c < tree.count[id]; ++c)
+          out.push_back(task_for(tree.first[id] + c, priority_of(tree.first[id] + c)));
       }
-      if (!out.empty()) {
-        pending.fetch_add(static_cast<std::int64_t>(out.size()), std::memory_order_acq_rel);
-        s.submit(w, out);
-        out.clear();
-      }
-      pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel);
-    }
-    executed.fetch_add(my_executed, std::memory_order_relaxed);
-    std::size_t seen = largest.load(std::memory_order_relaxed);
-    while (my_largest > seen && !largest.compare_exchange_weak(seen, my_largest)) {
+      pending.fetch_add(static_cast<std::int64_t>(out.size()) - static_cast<std::int64_t>(n),
+                        std::memory_order_acq_rel);
+      if (!out.empty()) s.submit(w, out);
+      out.clear();
     }
   }
-  if (foreign.joinable()) foreign.join();
-  return {executed.load(), largest.load(), team.load()};
+  foreign.join();
+  return executed.load();
 }
 
 using TreeParam = std::tuple<std::string, int, int>;  // scheduler, threads, block size
@@ -152,6 +180,7 @@ TEST_P(SchedTree, EveryTaskRunsExactlyOnce) {
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
+  EXPECT_FALSE(r.timed_out);
   EXPECT_EQ(r.team_size, threads);
   EXPECT_EQ(r.executed, tree.size());
   std::size_t wrong = 0;
@@ -159,7 +188,7 @@ TEST_P(SchedTree, EveryTaskRunsExactlyOnce) {
     if (runs[id].load() != 1) ++wrong;
   EXPECT_EQ(wrong, 0u) << "tasks not run exactly once";
   EXPECT_GE(r.largest_take, 1u);
-  EXPECT_LE(r.largest_take, static_cast<std::size_t>(block_size));
+  EXPECT_LE(r.largest_take, static_cast<std::size_t>(block_size));  // the driver's buffer
 
   const SchedulerCounters c = s->counters();
   EXPECT_GE(c.takes * static_cast<std::uint64_t>(block_size), tree.size());
@@ -199,8 +228,7 @@ TEST_P(SchedForeign, SubmitsFromOutsideTheTeamRunExactlyOnce) {
   static const Tree tree = make_tree(24, 20000, 24, 777);
   auto s = make_scheduler(GetParam(), SchedulerConfig{2, 7});
   std::vector<std::atomic<std::uint32_t>> runs(tree.size());
-  const RunResult r = run_tree(*s, tree, 2, 7, runs, 8);
-  EXPECT_EQ(r.executed, tree.size());
+  EXPECT_EQ(run_tree_fed_from_outside(*s, tree, 8, runs), tree.size());
   std::size_t wrong = 0;
   for (std::size_t id = 0; id < tree.size(); ++id)
     if (runs[id].load() != 1) ++wrong;
@@ -212,40 +240,32 @@ INSTANTIATE_TEST_SUITE_P(Sched, SchedForeign, ::testing::ValuesIn(scheduler_name
                            return info.param;
                          });
 
-// Peak parallelism: with 2 refiners and tasks that each spin ~50 us, both refiners are
-// inside a task at the same moment at some point. An attempt lasts ~20 ms, several
-// scheduler time slices, so a briefly busy machine cannot hide the second refiner.
+// Peak parallelism, as the stage driver counts it: with 2 workers and tasks that each
+// spin ~50 us, both are busy at the same moment at some point. An attempt lasts ~20 ms,
+// several scheduler time slices, so a briefly busy machine cannot hide the second worker.
+struct SpinBody {
+  void begin(int, int) {}
+  void process(int, const Task&, std::vector<Task>&) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(50);
+    while (std::chrono::steady_clock::now() < until) {
+    }
+  }
+  std::uint64_t end_block(int, std::size_t) { return 0; }
+  std::uint64_t bytes_held(int) { return 0; }
+  void end_loop(int) {}
+  void finish(int) {}
+};
+
 int peak_busy_once(const std::string& name) {
   constexpr int kTasks = 400;
   auto s = make_scheduler(name, SchedulerConfig{2, 1});
   std::vector<Task> initial;
   for (std::uint32_t i = 0; i < kTasks; ++i) initial.push_back(task_for(i));
-  std::atomic<std::int64_t> pending{kTasks};
-  std::atomic<int> busy{0}, peak{0};
-  s->submit(0, initial);
-#pragma omp parallel num_threads(2)
-  {
-    const int w = omp_get_thread_num();
-    std::vector<Task> block(1);
-    for (;;) {
-      const std::size_t n = s->take(w, block);
-      if (n == 0) {
-        if (pending.load(std::memory_order_acquire) == 0) break;
-        std::this_thread::yield();
-        continue;
-      }
-      const int now = busy.fetch_add(1, std::memory_order_acq_rel) + 1;
-      int seen = peak.load(std::memory_order_relaxed);
-      while (now > seen && !peak.compare_exchange_weak(seen, now)) {
-      }
-      const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(50);
-      while (std::chrono::steady_clock::now() < until) {
-      }
-      busy.fetch_sub(1, std::memory_order_acq_rel);
-      pending.fetch_sub(static_cast<std::int64_t>(n), std::memory_order_acq_rel);
-    }
-  }
-  return peak.load();
+  SpinBody body;
+  StageConfig config;
+  config.threads = 2;
+  config.time_limit_s = 60;
+  return run_stage(*s, initial, config, body).peak_parallelism;
 }
 
 class SchedPeak : public ::testing::TestWithParam<std::string> {};
@@ -344,6 +364,31 @@ TEST(SchedBlocked, AtMostBlockSizePerTake) {
   EXPECT_EQ(c.empty_takes, 2u);
   EXPECT_EQ(c.lock_wait_s, 0.0);  // one thread: never contended
 }
+
+// The block size caps a take even when the caller's buffer is larger (the driver's
+// buffer is exactly the block size, so the tree test above cannot see this).
+class SchedCap : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SchedCap, TakeHandsOutAtMostTheBlockSize) {
+  for (int block : {1, 3, 7}) {
+    auto s = make_scheduler(GetParam(), SchedulerConfig{1, block});
+    std::vector<Task> batch;
+    for (std::uint32_t i = 0; i < 40; ++i) batch.push_back(task_for(i));
+    s->submit(0, batch);
+    std::vector<Task> out(static_cast<std::size_t>(block) + 5);
+    std::size_t total = 0;
+    while (const std::size_t n = s->take(0, out)) {
+      EXPECT_LE(n, static_cast<std::size_t>(block)) << "block " << block;
+      total += n;
+    }
+    EXPECT_EQ(total, batch.size());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sched, SchedCap, ::testing::ValuesIn(scheduler_names()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           return info.param;
+                         });
 
 TEST(SchedBlocked, TakeNeverExceedsTheCallersBuffer) {
   auto s = make_scheduler("blocked", SchedulerConfig{1, 100});

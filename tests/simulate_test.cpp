@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 const Policy kAllPolicies[] = {Policy::kStack, Policy::kFifo, Policy::kPriority, Policy::kBlocked,
                                Policy::kStealing};
 
-/// Builds trace records the way core/solver/refiner.cpp numbers tasks.
+/// Builds trace records the way the stage driver (core/stage/run_stage.h) numbers tasks.
 class TraceBuilder {
  public:
   explicit TraceBuilder(int iteration = 1) : iteration_(static_cast<std::uint8_t>(iteration)) {}

@@ -1,33 +1,16 @@
 #include "core/solver/refiner.h"
 
-#include "core/base/clock.h"
-#include "core/base/interrupt.h"
 #include "core/hierarchy/hierarchy.h"
-#include "core/parallel/timed_lock.h"
+#include "core/stage/run_stage.h"
 #include "core/transport/transport.h"
 
-#include <omp.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <chrono>
-#include <condition_variable>
-#include <mutex>
 #include <span>
-#include <thread>
 
 namespace hrad {
 
-namespace {
-/// Initial tasks a refiner loads into the scheduler per call.
-constexpr std::size_t kLoadChunk = 4096;
-/// Retired tasks a refiner may owe the shared count before it publishes them.
-constexpr std::int64_t kOwedLimit = 1024;
-/// Blocks between a refiner's looks at its arenas' size (RefineLimits::max_bytes).
-constexpr int kMemoryCheckBlocks = 256;
-}  // namespace
-
+// One refiner's state: the rule's counters and the links of its current block.
 struct alignas(64) Refiner::Worker {
   int id = 0;
   int node = 0;  ///< NUMA node of the pin plan (set_binding); 0 when unpinned
@@ -36,12 +19,6 @@ struct alignas(64) Refiner::Worker {
   std::vector<std::pair<Element*, Link>> accepted;
   std::vector<Link> batch;  ///< one receiver's accepted links, for store_links
   std::vector<Element*> started;  ///< receivers whose first link this worker stored
-  std::uint64_t next_id = 0;  ///< ids of the tasks this worker creates
-  std::vector<TraceRecord> trace;
-  /// c.tasks and the links accepted, published once per block for the progress
-  /// thread (Refiner::set_progress) when there is one; only this worker writes them.
-  alignas(64) std::atomic<std::uint64_t> shown_tasks{0};
-  std::atomic<std::uint64_t> shown_links{0};
 };
 
 // Stores a block's accepted links at their receivers, one lock acquisition per
@@ -137,7 +114,6 @@ struct Refiner::Step {
 void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   Element& r = *task.receiver;
   Element& s = *task.source;
-  ++w.c.tasks;
   ++(r.home_node == w.node ? w.c.tasks_local : w.c.tasks_remote);  // NUMA report
   LinkEstimate est{&r, &s, task.form_factor, task.visibility, 0};
   PairClass pc = PairClass::Regular;
@@ -163,8 +139,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
       split.is_cluster() ? split.child_span() : hierarchy_.subdivide(split, w.id, element_locks_);
   const float child_priority = static_cast<float>(step.error / std::max<std::size_t>(kids.size(), 1));
   for (Element& c : kids) {
-    Task t;
-    t.id = w.next_id++;
+    Task t;  // its id is the driver's (core/stage/run_stage.h)
     t.receiver = step.split_r ? &c : &r;
     t.source = step.split_r ? &s : &c;
     t.priority = child_priority;
@@ -262,294 +237,98 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
   return st;
 }
 
-namespace {
+// Refinement as a stage body (core/stage/stage_body.h): the driver runs the team and
+// hands each task to process(); a block's accepted links are stored after it, and the
+// lists a refiner started are compacted once every refiner is done.
+struct Refiner::Body {
+  Refiner& refiner;
+  std::vector<Worker>& workers;
+  Worker& at(int id) { return workers[static_cast<std::size_t>(id)]; }
 
-/// An atomic alone on its cache line(s): the driver's shared counters are written by
-/// every refiner, and must not drag the lines of anything else with them.
-template <class T>
-struct alignas(64) PaddedAtomic {
-  std::atomic<T> v;
-  explicit PaddedAtomic(T x) : v(x) {}
-};
-
-/// How an idle refiner waits before asking the scheduler again: first a few pause
-/// loops (work usually appears within microseconds, and asking again at once would
-/// only take the scheduler's lock from the refiner about to submit), then yields,
-/// then short sleeps, so that a refiner with nothing to do stops competing for a
-/// core (with the solver thread, or another process) once it has waited about a
-/// millisecond.
-void idle_backoff(int round) {
-  if (round < 10) {
-    for (int i = 0; i < (1 << round); ++i) cpu_relax();
-  } else if (round < 40) {
-    std::this_thread::yield();
-  } else {
-    std::this_thread::sleep_for(std::chrono::microseconds(50));
+  void begin(int id, int node) {
+    at(id).id = id;
+    at(id).node = node;
   }
-}
-
-}  // namespace
+  void process(int id, const Task& task, std::vector<Task>& out) {
+    refiner.process(task, at(id), out);
+  }
+  std::uint64_t end_block(int id, std::size_t /*tasks*/) {
+    Worker& w = at(id);
+    refiner.store_links(w, false);
+    return w.c.links_created + w.c.links_kept;
+  }
+  std::uint64_t bytes_held(int id) const {
+    const Hierarchy& h = refiner.hierarchy_;
+    return h.arena(id).bytes_used() + h.link_arena(id).bytes_used() +
+           h.link_staging_arena(id).bytes_used();
+  }
+  void end_loop(int id) { refiner.store_links(at(id), true); }  // what a busy lock deferred
+  // Every store is done: each refiner moves the lists it started into one block of its
+  // own link arena (so, under first-touch, onto its node), then forgets its staging
+  // blocks. Others may still be reading from this refiner's staging blocks; the reset
+  // only marks them free, and nothing allocates from them this stage.
+  void finish(int id) {
+    Worker& w = at(id);
+    Hierarchy& h = refiner.hierarchy_;
+    for (Element* r : w.started) h.compact_links(*r, w.id);
+    h.reset_link_staging(w.id);
+    w.c.link_bytes = h.link_arena(w.id).bytes_used();
+  }
+};
 
 RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int threads,
                             int block_size, int trace_iteration) {
-  const bool tracing = trace_iteration > 0;
-  for (std::size_t i = 0; i < initial.size(); ++i)
-    initial[i].id = (static_cast<std::uint64_t>(trace_iteration) << 40) | i;
-  const auto stage_start = Clock::now();
-  // `pending` counts tasks submitted (or still to be loaded) and not yet known to be
-  // finished. It starts at the whole initial load, so it cannot reach zero before every
-  // initial task was loaded and finished. A block's children are added before they are
-  // submitted, and its retired tasks are taken off then or later (see the loop), so it
-  // stays above zero while any task is queued, left to load, or in flight.
-  PaddedAtomic<std::int64_t> pending(static_cast<std::int64_t>(initial.size()));
-  PaddedAtomic<bool> done(false);
-  PaddedAtomic<std::size_t> load_cursor(0);  // next initial task to load
-  PaddedAtomic<int> busy(0);                 // refiners not idle
-  PaddedAtomic<int> peak(0);
-  // Arena bytes of all refiners, each adding what its own arenas grew by every
-  // kMemoryCheckBlocks blocks (the arenas' counters are their owners' alone), and
-  // whether that passed limits_.max_bytes.
-  PaddedAtomic<std::uint64_t> arena_bytes(0);
-  PaddedAtomic<bool> over_memory(false);
+  StageConfig config;
+  config.threads = threads;
+  config.block_size = block_size;
+  config.trace_iteration = trace_iteration;
+  config.max_bytes = limits_.max_bytes;
+  config.topology = topology_;
+  config.plan = plan_;
+  if (progress_) {
+    config.progress = [this](const StageProgress& p) {
+      progress_(RefineProgress{p.tasks, p.pending, p.results, p.elapsed_s});
+    };
+    config.progress_interval_ms = progress_interval_ms_;
+  }
   std::vector<Worker> workers(static_cast<std::size_t>(threads));
-  const std::span<const Task> all(initial);
-
-  // Loads the next chunk of initial tasks into the scheduler, as `worker`; false when
-  // every chunk has been taken. A refiner loads when it finds nothing of its own to
-  // take, so loading runs in parallel and only as fast as the work needs it (paper §3.2 has a
-  // solver thread load them; on P cores for P refiners that thread would compete with
-  // the refiners for a core while they wait for it).
-  auto load_more = [&](Worker& w) {
-    if (load_cursor.v.load(std::memory_order_relaxed) >= all.size()) return false;
-    const std::size_t i = load_cursor.v.fetch_add(kLoadChunk, std::memory_order_relaxed);
-    if (i >= all.size()) return false;
-    const auto t0 = Clock::now();
-    scheduler.submit(w.id, all.subspan(i, std::min(kLoadChunk, all.size() - i)));
-    ++w.c.submits;
-    w.c.load_s += seconds_since(t0);
-    return true;
-  };
-
-  // The solver thread (paper §3.2) detects termination: it sleeps until the last
-  // in-flight task retires (the refiner that brings `pending` to zero wakes it) and
-  // tells the refiners to stop.
-  std::thread solver([&] {
-    if (plan_) (void)bind_thread(topology_, plan_->solver, nullptr);
-    for (std::int64_t v = pending.v.load(std::memory_order_acquire);
-         v != 0 && !interrupted() && !over_memory.v.load(std::memory_order_acquire);
-         v = pending.v.load(std::memory_order_acquire))
-      pending.v.wait(v, std::memory_order_acquire);
-    done.v.store(true, std::memory_order_release);
-  });
-
-  // Progress during the stage (set_progress): a thread that wakes every interval,
-  // sums what the refiners published and reports it, until the stage is over.
-  const bool report = static_cast<bool>(progress_);
-  std::mutex progress_mutex;
-  std::condition_variable progress_cv;
-  bool stage_over = false;
-  std::thread reporter;
-  if (report) {
-    reporter = std::thread([&] {
-      std::unique_lock lock(progress_mutex);
-      while (!progress_cv.wait_for(lock, std::chrono::milliseconds(progress_interval_ms_),
-                                   [&] { return stage_over; })) {
-        RefineProgress p;
-        for (const Worker& w : workers) {
-          p.tasks += w.shown_tasks.load(std::memory_order_relaxed);
-          p.links += w.shown_links.load(std::memory_order_relaxed);
-        }
-        const std::int64_t left = pending.v.load(std::memory_order_relaxed);
-        // `pending` counts retirements late, so it can exceed what is truly left.
-        p.pending = left > 0 ? static_cast<std::uint64_t>(left) : 0;
-        p.elapsed_s = seconds_since(stage_start);
-        progress_(p);
-      }
-    });
-  }
-
-#pragma omp parallel num_threads(threads)
-  {
-    Worker& w = workers[static_cast<std::size_t>(omp_get_thread_num())];
-    w.id = omp_get_thread_num();
-    const double cpu_start = thread_cpu_seconds();
-    // OpenMP keeps its threads (this one may be the caller's) for later stages and
-    // later runs: a bound refiner gives the thread its CPU set back when the stage
-    // ends, so a run without pinning never inherits another's binding.
-    const ThreadBinding unbound;
-    const bool planned = plan_ && static_cast<std::size_t>(w.id) < plan_->refiners.size();
-    const ThreadBinding& b = planned ? plan_->refiners[static_cast<std::size_t>(w.id)] : unbound;
-    w.node = b.node;
-    const ScopedThreadBinding binding(topology_, b, &w.c.bind_warning);
-    w.c.bound = binding.outcome();
-    w.next_id = (static_cast<std::uint64_t>(w.id + 1) << 48) |
-                (static_cast<std::uint64_t>(trace_iteration) << 40);
-    std::vector<Task> block(static_cast<std::size_t>(block_size));
-    std::vector<Task> out;
-    out.reserve(static_cast<std::size_t>(block_size) * 8);
-    const auto loop_start = Clock::now();
-    Clock::time_point idle_since = loop_start;
-    bool idle = true;  // not yet counted in `busy`
-    int idle_round = 0;
-    std::int64_t owed = 0;  // retired tasks not yet taken off `pending` (<= 0)
-    std::size_t ready = 0;  // tasks already in `block` (taken with the last submit)
-    // While chunks are left to load, a refiner with nothing of its own loads one
-    // rather than take what another has just loaded.
-    const auto loading = [&] { return load_cursor.v.load(std::memory_order_relaxed) < all.size(); };
-    std::uint64_t published = 0;  // this refiner's arena bytes already in arena_bytes
-    int blocks_since_check = kMemoryCheckBlocks;
-    for (;;) {
-      if (limits_.max_bytes > 0 && ++blocks_since_check >= kMemoryCheckBlocks) {
-        blocks_since_check = 0;
-        const std::uint64_t own = hierarchy_.arena(w.id).bytes_used() +
-                                  hierarchy_.link_arena(w.id).bytes_used() +
-                                  hierarchy_.link_staging_arena(w.id).bytes_used();
-        const std::uint64_t total =
-            arena_bytes.v.fetch_add(own - published, std::memory_order_relaxed) + own - published;
-        published = own;
-        if (total > limits_.max_bytes) over_memory.v.store(true, std::memory_order_release);
-      }
-      if (interrupted() || over_memory.v.load(std::memory_order_acquire)) {
-        // Stop here, tasks left where they are (core/base/interrupt.h, max_bytes): the
-        // stage is abandoned. The change of `pending` wakes the solver thread, which
-        // then sees the flag too.
-        pending.v.store(-1, std::memory_order_release);
-        pending.v.notify_one();
-        break;
-      }
-      const std::size_t n = ready > 0   ? ready
-                            : loading() ? scheduler.take_own(w.id, block)
-                                        : scheduler.take(w.id, block);
-      ready = 0;
-      if (n == 0) {
-        if (load_more(w)) continue;
-        if (owed != 0) {  // before going idle, publish what this refiner retired
-          const bool last = pending.v.fetch_add(owed, std::memory_order_acq_rel) + owed == 0;
-          owed = 0;
-          if (last) pending.v.notify_one();
-        }
-        if (done.v.load(std::memory_order_acquire)) break;
-        if (!idle) {
-          idle = true;
-          idle_since = Clock::now();
-          busy.v.fetch_sub(1, std::memory_order_relaxed);
-        }
-        idle_backoff(idle_round++);
-        continue;
-      }
-      if (idle) {
-        // Only the idle -> busy transitions touch the shared counters.
-        w.c.idle_s += seconds_since(idle_since);
-        idle = false;
-        idle_round = 0;
-        const int now_busy = busy.v.fetch_add(1, std::memory_order_relaxed) + 1;
-        int seen = peak.v.load(std::memory_order_relaxed);
-        while (now_busy > seen && !peak.v.compare_exchange_weak(seen, now_busy)) {
-        }
-      }
-      if (tracing) {
-        for (std::size_t i = 0; i < n; ++i) {
-          const auto t_start = Clock::now();
-          const std::size_t before = out.size();
-          const std::uint64_t first_child = w.next_id;
-          process(block[i], w, out);
-          TraceRecord rec;
-          rec.id = block[i].id;
-          rec.first_child = first_child;
-          rec.start_ns = static_cast<std::uint64_t>(
-              std::chrono::duration_cast<std::chrono::nanoseconds>(t_start - stage_start).count());
-          const auto d = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_start);
-          rec.duration_ns = static_cast<std::uint32_t>(
-              std::min<std::int64_t>(d.count(), TraceRecord::kBlockStart - 1));
-          if (i == 0) rec.duration_ns |= TraceRecord::kBlockStart;
-          rec.children = static_cast<std::uint16_t>(out.size() - before);
-          rec.worker = static_cast<std::uint8_t>(w.id);
-          rec.iteration = static_cast<std::uint8_t>(trace_iteration);
-          w.trace.push_back(rec);
-        }
-      } else {
-        for (std::size_t i = 0; i < n; ++i) process(block[i], w, out);
-      }
-      store_links(w, false);
-      ++w.c.takes;
-      if (report) {
-        w.shown_tasks.store(w.c.tasks, std::memory_order_relaxed);
-        w.shown_links.store(w.c.links_created + w.c.links_kept, std::memory_order_relaxed);
-      }
-      // The shared count changes by (children - block) per block. Children are counted
-      // before anyone can see them; retirements may be published late (the count then
-      // only stays above the true one, so it cannot reach zero early): a block with
-      // children publishes its own change and whatever was owed, and otherwise the
-      // retirements are owed until kOwedLimit or until the refiner goes idle. Blocks of
-      // reloaded links, which are accepted again without children, then cost no shared
-      // write.
-      bool last = false;
-      owed -= static_cast<std::int64_t>(n);
-      if (!out.empty() || owed <= -kOwedLimit) {
-        const std::int64_t delta = static_cast<std::int64_t>(out.size()) + owed;
-        owed = 0;
-        last = pending.v.fetch_add(delta, std::memory_order_acq_rel) + delta == 0;
-      }
-      if (!out.empty()) {
-        // One visit to the pool between two blocks: the children go in, the next
-        // block comes out (IScheduler::submit_and_take).
-        ++w.c.submits;
-        ready = scheduler.submit_and_take(w.id, out, block, loading());
-        out.clear();
-      }
-      if (last) pending.v.notify_one();  // the last task retired: wake the solver thread
-    }
-    const auto loop_end = Clock::now();
-    store_links(w, true);  // whatever a busy lock made it defer
-    if (idle) w.c.idle_s += seconds_between(idle_since, loop_end);
-    // Busy: the loop less its idle and loading time (two clock reads per stage; a pair
-    // per block cost 5 % of the refinement at block size 1).
-    w.c.busy_s = std::max(
-        0.0, seconds_between(loop_start, loop_end) - w.c.idle_s - w.c.load_s);
-    // Every store is done: each refiner moves the lists it started into one block of
-    // its own link arena (so, under first-touch, onto its node), then forgets its
-    // staging blocks. Others may still be reading from this refiner's staging blocks;
-    // the reset only marks them free, and nothing allocates from them this stage.
-#pragma omp barrier
-    const auto compact_start = Clock::now();
-    for (Element* r : w.started) hierarchy_.compact_links(*r, w.id);
-    hierarchy_.reset_link_staging(w.id);
-    w.c.compact_s = seconds_since(compact_start);
-    w.c.link_bytes = hierarchy_.link_arena(w.id).bytes_used();
-    w.c.cpu_s = thread_cpu_seconds() - cpu_start;
-  }
-  solver.join();
-  if (report) {
-    {
-      const std::lock_guard lock(progress_mutex);
-      stage_over = true;
-    }
-    progress_cv.notify_one();
-    reporter.join();
-  }
+  Body body{*this, workers};
+  StageCounters stage = run_stage(scheduler, initial, config, body);
 
   RefineCounters total;
-  for (const Worker& w : workers) {
-    total.tasks += w.c.tasks;
-    total.links_created += w.c.links_created;
-    total.links_kept += w.c.links_kept;
-    total.culled += w.c.culled;
-    total.rays_cast += w.c.rays_cast;
-    total.rays_skipped += w.c.rays_skipped;
-    total.busy_s += w.c.busy_s;
-    total.idle_s += w.c.idle_s;
-    total.cpu_s += w.c.cpu_s;
-    total.load_s += w.c.load_s;
-    total.link_bytes += w.c.link_bytes;
-    total.compact_s = std::max(total.compact_s, w.c.compact_s);
-    total.takes += w.c.takes;
-    total.submits += w.c.submits;
-    total.per_worker.push_back(w.c);
-    total.trace.insert(total.trace.end(), w.trace.begin(), w.trace.end());
+  for (std::size_t i = 0; i < workers.size(); ++i) {
+    RefineCounters& c = workers[i].c;
+    const StageWorkerCounters& d = stage.per_worker[i];
+    c.tasks = d.tasks;
+    c.busy_s = d.busy_s;
+    c.idle_s = d.idle_s;
+    c.cpu_s = d.cpu_s;
+    c.load_s = d.load_s;
+    c.compact_s = d.finish_s;
+    c.takes = d.takes;
+    c.submits = d.submits;
+    c.bound = d.bound;
+    c.bind_warning = d.bind_warning;
+    total.tasks += c.tasks;
+    total.links_created += c.links_created;
+    total.links_kept += c.links_kept;
+    total.culled += c.culled;
+    total.rays_cast += c.rays_cast;
+    total.rays_skipped += c.rays_skipped;
+    total.busy_s += c.busy_s;
+    total.idle_s += c.idle_s;
+    total.cpu_s += c.cpu_s;
+    total.load_s += c.load_s;
+    total.link_bytes += c.link_bytes;
+    total.compact_s = std::max(total.compact_s, c.compact_s);
+    total.takes += c.takes;
+    total.submits += c.submits;
+    total.per_worker.push_back(c);
   }
-  total.peak_parallelism = peak.v.load();
-  total.over_memory = over_memory.v.load();
-  total.arena_bytes = arena_bytes.v.load();
+  total.peak_parallelism = stage.peak_parallelism;
+  total.over_memory = stage.over_memory;
+  total.arena_bytes = stage.bytes_held;
+  total.trace = std::move(stage.trace);
   return total;
 }
 

@@ -1,21 +1,10 @@
-// Refiner: the refinement stage of one iteration. `threads` refiners (an OpenMP
-// team) take blocks of tasks from the scheduler, classify and estimate each
-// candidate link, ask the oracle, and either store the link at its receiver or
-// replace it by links to or from the children of the element to refine. The tasks
-// a refiner creates are buffered and submitted after its block (the paper's
-// blocking, §3.5; with block size 1 this is plain task-at-a-time scheduling).
-//
-// The iteration's initial tasks (every existing link) are loaded into the scheduler
-// in chunks by the refiners themselves, by whichever finds the scheduler empty, so
-// the load runs in parallel and on demand. A solver thread runs beside the refiners
-// (paper §3.2) and detects termination: `pending` counts tasks submitted or still to
-// be loaded and not yet known to be finished; it starts at the whole initial load, a
-// refiner adds a block's children before it submits them, and takes retired tasks off
-// in the same update or later (at most 1,024 owed, all before it goes idle), so
-// pending reaches zero only when no task is queued, left to load or in flight. The
-// refiner that brings it to zero wakes the solver thread, which tells the refiners to
-// stop (the solver thread sleeps meanwhile: it takes no core). While chunks are left
-// to load, refiners take only their own work (IScheduler::take_own).
+// Refiner: the refinement rule of one iteration, run as a stage body by the stage
+// driver (core/stage/run_stage.h, which owns the team of refiners, termination,
+// accounting, tracing and pinning). For each candidate link the rule classifies and
+// estimates the pair, asks the oracle, and either accepts the link (stored at its
+// receiver after the block) or replaces it by tasks to or from the children of the
+// element to refine. When every refiner is done, each compacts the link lists it
+// started.
 #pragma once
 
 #include "core/hierarchy/element.h"
@@ -145,6 +134,7 @@ class Refiner {
 
  private:
   struct Worker;
+  struct Body;
   struct Step;
   // One task: classify, estimate and judge the pair (open_pair or judge), then store
   // its link or split one end into child tasks.

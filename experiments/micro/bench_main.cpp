@@ -6,6 +6,7 @@
 
 int main(int argc, char** argv) {
   hrad::register_scheduler_benchmarks();
+  hrad::register_stage_benchmarks();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

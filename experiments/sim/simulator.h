@@ -1,7 +1,7 @@
 // Discrete-event replay of a recorded refinement (TaskGraph) on `procs` simulated
 // processors under one scheduling policy and a CostModel.
 //
-// Each processor loops as core/solver/refiner.cpp does: take up to block_size tasks, run them
+// Each processor loops as the stage driver (core/stage/run_stage.h) does: take up to block_size tasks, run them
 // (recorded durations × slowdown), spend block_ns, then submit the tasks the block
 // created in one operation; those become available when the submit releases the lock
 // (or the deque). Lock-like resources (the central lock, each stealing deque) are
@@ -28,6 +28,7 @@
 // separated by a barrier.
 #pragma once
 
+#include "core/stage/run_stage.h"
 #include "experiments/sim/cost_model.h"
 #include "experiments/sim/task_graph.h"
 
@@ -42,7 +43,7 @@ struct SimConfig {
   int procs = 1;
   int block_size = 1;
   CostModel costs;
-  int load_chunk = 4096;          ///< initial tasks per load (core/solver/refiner.cpp)
+  int load_chunk = static_cast<int>(kStageLoadChunk);  ///< initial tasks per load (core/stage/run_stage.h)
   bool keep_executions = false;  ///< fill IterationResult::executions (tests)
 };
 

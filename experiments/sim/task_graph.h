@@ -3,7 +3,7 @@
 //
 // Within one iteration every task but the initial ones was created by exactly one
 // parent, and the refiner submits a block's created tasks only after the whole block
-// (core/solver/refiner.cpp, for every scheduler), so a task becomes available when its
+// (core/stage/run_stage.h, for every scheduler), so a task becomes available when its
 // parent's *block* ends; the simulator decides the blocks, the graph only knows who
 // created whom. Iterations are separated by a barrier (propagation runs between them
 // and is not in the trace), so each iteration is its own graph.
