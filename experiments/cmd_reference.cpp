@@ -36,6 +36,7 @@ struct ReferenceArgs {
   /// The scene's `sides` and `segments` keys, as `hrad solve` takes them (the reference
   /// must trace the scene the solver solves).
   SolverOptions scene_keys;
+  std::string sides = "auto";  ///< --sides as given, applied to scene_keys as the key is
   bool quiet = false;
 };
 
@@ -54,13 +55,14 @@ std::string reference_csv(const std::vector<Probe>& probes, const ReferenceResul
   return out;
 }
 
-int run_reference(const ReferenceArgs& a, const CommandContext& ctx) {
+int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
   Scene scene;
   std::vector<Probe> probes;
   std::unique_ptr<PathTracer> tracer;
   try {
     if (a.probes.empty() && a.random_probes == 0)
       throw std::invalid_argument("give the probe points: --probes FILE or --random-probes N");
+    apply_option_value(a.scene_keys, "sides", a.sides, "--sides");
     validate_options(a.scene_keys);
     scene = load_scene(a.scene, scene_load_options(a.scene_keys));
     if (a.random_probes > 0) {
@@ -231,7 +233,7 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
                        static_cast<char>(std::toupper(static_cast<unsigned char>(h[0]))),
                        h.substr(1), key, option_value_string(defaults, key));
   };
-  sub->add_option("--sides", args->scene_keys.sides, scene_key_help("sides"))
+  sub->add_option("--sides", args->sides, scene_key_help("sides"))
       ->type_name("MODE");
   sub->add_option("--segments", args->scene_keys.segments, scene_key_help("segments"))
       ->type_name("N");

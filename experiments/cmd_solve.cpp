@@ -291,8 +291,8 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     stats = solver->run();
     progress->finish();
     const auto mesh_start = Clock::now();
-    const RenderMesh mesh = solver->render_mesh(parse_shading(options.shading));
-    image_info["shading"] = options.shading;
+    const RenderMesh mesh = solver->render_mesh(options.shading);
+    image_info["shading"] = enum_name(options.shading);
     image_info["mesh_s"] = seconds_since(mesh_start);
     image_info["mesh_vertices"] = mesh.positions.size();
     image_info["mesh_polygons"] = mesh.polys.size();

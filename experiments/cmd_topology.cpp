@@ -15,7 +15,7 @@ namespace {
 // The plan as `hrad solve` would apply it: one line per refiner, then the solver thread.
 std::string format_pin_plan(const TopologyInfo& t, const std::string& pin, int threads) {
   if (threads <= 0) threads = t.pus;
-  const PinPlan plan = make_pin_plan(t, parse_pin_policy(pin), threads);
+  const PinPlan plan = make_pin_plan(t, parse_enum<PinPolicy>(pin, "pin"), threads);
   std::string s = fmt::format("pin {}, {} refiner{}{}:\n", pin, threads, threads == 1 ? "" : "s",
                               t.synthetic ? " (planned only: not this machine)" : "");
   auto line = [](const ThreadBinding& b) {

@@ -97,7 +97,7 @@ Scene with_materials(Scene s, const std::function<void(Material&)>& f) {
 int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   SolverOptions all;
-  all.effects = "all";
+  all.effects = EffectsMode::All;
   SolverOptions fast;
   fmt::print("best of {} runs, 1 thread, default options; wall time of Solver construction + run\n\n",
              runs);
@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
   }
   {
     SolverOptions on = fast;
-    on.shaft_culling = "on";
+    on.shaft_culling = ShaftCulling::On;
     row("shaft culling (off vs on)", "office", office, fast, on, runs);
     row("shaft culling (off vs on)", "cornell", make_builtin("builtin:cornell"), fast, on, runs);
   }

@@ -26,15 +26,6 @@
 
 namespace hrad {
 
-/// "submitted", "address", "subtree"; throws std::invalid_argument otherwise.
-inline PoolOrder parse_pool_order(const std::string& name) {
-  if (name == "submitted") return PoolOrder::Submitted;
-  if (name == "address") return PoolOrder::Address;
-  if (name == "subtree") return PoolOrder::Subtree;
-  throw std::invalid_argument("pool_order: unknown order \"" + name +
-                              "\" (allowed: submitted, address, subtree)");
-}
-
 /// Sorts `batch` by the key of `order` (stable; nothing happens for Submitted).
 inline void order_batch(std::span<Task> batch, PoolOrder order) {
   if (order == PoolOrder::Address) {

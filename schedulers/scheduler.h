@@ -14,6 +14,8 @@
 //  - a scheduler may use `worker` to keep per-worker queues or locality.
 #pragma once
 
+#include "core/base/enum_names.h"
+
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -40,6 +42,12 @@ struct Task {
 /// (schedulers/pool_order.h): as submitted, by receiver address, or by the receiver's
 /// input polygon (its subtree of the hierarchy), then address.
 enum class PoolOrder { Submitted, Address, Subtree };
+inline constexpr EnumName<PoolOrder> kPoolOrderNames[] = {
+    {PoolOrder::Submitted, "submitted", "as submitted"},
+    {PoolOrder::Address, "address", "by receiver address"},
+    {PoolOrder::Subtree, "subtree", "by the receiver's input polygon, then address"},
+};
+constexpr std::span<const EnumName<PoolOrder>> enum_names(PoolOrder) { return kPoolOrderNames; }
 
 struct SchedulerConfig {
   int threads = 1;     ///< number of workers that will call take/submit

@@ -124,8 +124,8 @@ TEST(NodeArena, BadAlignmentAndUnknownPlacementAreErrors) {
   NodeArena a(0, ArenaPlacement{});
   EXPECT_THROW((void)a.allocate(10, 3), std::invalid_argument);
   EXPECT_THROW((void)a.allocate(10, 2 * NodeArena::kPageBytes), std::invalid_argument);
-  EXPECT_THROW((void)parse_placement("node1"), std::invalid_argument);
-  EXPECT_EQ(parse_placement("interleave"), MemBind::Interleave);
+  EXPECT_THROW((void)parse_enum<MemBind>("node1", "placement"), std::invalid_argument);
+  EXPECT_EQ(parse_enum<MemBind>("interleave", "placement"), MemBind::Interleave);
   // An owner outside the placement's node list is counted on node 0.
   NodeArena b(5, ArenaPlacement{MemBind::FirstTouch, 2, {1}, nullptr});
   EXPECT_EQ(b.node(), 0);

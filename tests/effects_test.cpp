@@ -35,7 +35,7 @@ SolverOptions small_options() {
 }
 
 Solved solve(const Scene& scene, SolverOptions o, const char* effects) {
-  o.effects = effects;
+  apply_option_value(o, "effects", effects, "test");
   Solver s(scene, o);
   Solved r;
   r.stats = s.run();
@@ -122,7 +122,7 @@ TEST(EffectsAnalysis, DecidesEachEffectWithAReason) {
   EXPECT_FALSE(dark.emission.on);
   EXPECT_EQ(dark.emission.reason.rfind("scene has no emitter", 0), 0u) << dark.emission.reason;
 
-  o.effects = "all";
+  o.effects = EffectsMode::All;
   const Effects forced = analyse_effects(room(test::material(0, 0), false), o);
   for (const auto& [name, e] : forced.table()) EXPECT_TRUE(e->on) << name << ": " << e->reason;
 }
@@ -131,14 +131,14 @@ TEST(EffectsAnalysis, OptionsAreChecked) {
   SolverOptions o;
   apply_option_assignment(o, "effects=all");
   apply_option_assignment(o, "shaft-culling=on");
-  EXPECT_EQ(o.effects, "all");
-  EXPECT_EQ(o.shaft_culling, "on");
+  EXPECT_EQ(o.effects, EffectsMode::All);
+  EXPECT_EQ(o.shaft_culling, ShaftCulling::On);
   EXPECT_NO_THROW(validate_options(o));
-  o.effects = "some";
-  EXPECT_THROW(validate_options(o), std::invalid_argument);
-  o.effects = "auto";
-  o.shaft_culling = "yes";
-  EXPECT_THROW(validate_options(o), std::invalid_argument);
+  // Values outside the tables are refused where they are read.
+  EXPECT_THROW(apply_option_assignment(o, "effects=some"), std::invalid_argument);
+  EXPECT_THROW(apply_option_assignment(o, "shaft_culling=yes"), std::invalid_argument);
+  EXPECT_EQ(o.effects, EffectsMode::All);  // unchanged by the refused values
+  EXPECT_EQ(o.shaft_culling, ShaftCulling::On);
 }
 
 TEST(EffectsAnalysis, StatsJsonReportsEveryEffect) {
@@ -166,7 +166,7 @@ TEST(EffectsShortcut, ConvexEnclosureCastsNoRays) {
   const Rgb rho(0.7, 0.5, 0.3), e(1, 0.8, 0.6);
   const Scene scene = room(coloured(rho, e), false);
   SolverOptions o = small_options();
-  o.row_sums = "normalize";
+  o.row_sums = RowSumMode::Normalize;
   o.gather_tolerance = 1e-10;
   // The links settle after iteration 3, where the fast run would stop (its answer is
   // then that of a 3-iteration run) and the full one go on; a 4th iteration's push
@@ -412,7 +412,7 @@ TEST(Shaft, CullingGivesTheSameRadiosityWithFewerRays) {
   SolverOptions o = small_options();
   o.iterations = 2;
   const Solved off = solve(scene, o, "auto");
-  o.shaft_culling = "on";
+  o.shaft_culling = ShaftCulling::On;
   const Solved on = solve(scene, o, "auto");
   const Solved forced = solve(scene, o, "all");  // effects = all turns shaft culling off too
   EXPECT_LT(on.stats.totals.rays_cast, off.stats.totals.rays_cast);

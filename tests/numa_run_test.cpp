@@ -3,6 +3,7 @@
 // planned bindings, bytes per node and local-access ratios, with the links of the
 // sequential run.
 #include "core/hierarchy/element.h"
+#include "core/config/options_io.h"
 #include "core/output/stats_json.h"
 #include "core/parallel/topology.h"
 #include "core/scene/builtin_scenes.h"
@@ -135,7 +136,7 @@ TEST(SchedPoolOrder, CentralPoolsSortEachBatch) {
   }
   EXPECT_EQ(ids_after("fifo", PoolOrder::Address), (V{0, 1, 2, 3, 4, 5}));
   EXPECT_EQ(ids_after("fifo", PoolOrder::Subtree), (V{3, 5, 1, 4, 0, 2}));
-  EXPECT_THROW((void)parse_pool_order("random"), std::invalid_argument);
+  EXPECT_THROW((void)parse_enum<PoolOrder>("random", "pool_order"), std::invalid_argument);
 }
 
 struct NumaSolve {
@@ -150,9 +151,9 @@ NumaSolve solve_cornell(const std::string& scheduler, int threads, const std::st
   o.scheduler = scheduler;
   o.threads = threads;
   o.block_size = 4;
-  o.pin = pin;
-  o.placement = placement;
-  o.pool_order = pool_order;
+  apply_option_value(o, "pin", pin, "test");
+  apply_option_value(o, "placement", placement, "test");
+  apply_option_value(o, "pool_order", pool_order, "test");
   o.eps = 3e-4;
   o.iterations = 2;
   Solver s(scene, o);

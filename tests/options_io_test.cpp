@@ -1,8 +1,10 @@
 #include "core/config/options_io.h"
+#include "tests/read_text.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -35,28 +37,28 @@ SolverOptions non_default_options() {
   o.min_area = 0.125;
   o.iterations = 3;
   o.visibility_rays = 0;
-  o.pin = "scatter";
-  o.placement = "interleave";
-  o.pool_order = "subtree";
+  o.pin = PinPolicy::Scatter;
+  o.placement = MemBind::Interleave;
+  o.pool_order = PoolOrder::Subtree;
   o.seed = 18446744073709551615ull;  // largest uint64: must survive JSON
   o.gather_tolerance = 1e-9;
   o.max_gather_sweeps = 12;
-  o.cluster_model = "isotropic";
-  o.cluster_receiver = "cosine";
-  o.row_sums = "normalize";
+  o.cluster_model = ClusterModel::Isotropic;
+  o.cluster_receiver = ClusterReceiver::Cosine;
+  o.row_sums = RowSumMode::Normalize;
   o.row_sum_rays = 5;
   o.locks_pool = 64;
   o.trace = "trace.bin";
   o.image_width = 320;
-  o.effects = "all";
-  o.shaft_culling = "on";
+  o.effects = EffectsMode::All;
+  o.shaft_culling = ShaftCulling::On;
   o.max_memory_gb = 2.5;
   o.camera = "eye=1,2,3:look=0,0.5,-1e-3:fov=30";
-  o.sides = "one";
+  o.sides = Sides::One;
   o.segments = 24;
-  o.shading = "flat";
+  o.shading = Shading::Flat;
   o.exposure = -2.5;
-  o.decision_rays = "independent";
+  o.decision_rays = DecisionRays::Independent;
   return o;
 }
 
@@ -209,7 +211,7 @@ TEST(OptionsIo, SetAcceptsDottedAndDashedAliases) {
   apply_option_assignment(o, "cluster.receiver=cosine");
   apply_option_assignment(o, "block-size=100");
   EXPECT_EQ(o.locks_pool, 16);
-  EXPECT_EQ(o.cluster_receiver, "cosine");
+  EXPECT_EQ(o.cluster_receiver, ClusterReceiver::Cosine);
   EXPECT_EQ(o.block_size, 100);
   ASSERT_NE(find_option("locks.pool"), nullptr);
   EXPECT_EQ(find_option("locks.pool")->name, "locks_pool");
@@ -251,15 +253,19 @@ TEST(OptionsIo, ValueStringFormatsCurrentValue) {
 TEST(OptionsIo, DefaultsAndRoundTripValuesAreValid) {
   EXPECT_NO_THROW(validate_options(SolverOptions{}));
   SolverOptions o = non_default_options();
-  o.cluster_receiver = "isotropic";
+  o.cluster_receiver = ClusterReceiver::Isotropic;
   EXPECT_NO_THROW(validate_options(o));
 }
 
 TEST(OptionsIo, ValidationNamesTheOffendingOption) {
+  // A range error comes from validate_options; a mode's unknown value already from
+  // the assignment, which parses it by its enum's table.
   const auto err = [](const std::string& assignment) {
-    SolverOptions o;
-    apply_option_assignment(o, assignment);
-    return error_of([&] { validate_options(o); });
+    return error_of([&] {
+      SolverOptions o;
+      apply_option_assignment(o, assignment);
+      validate_options(o);
+    });
   };
   const std::pair<const char*, const char*> cases[] = {
       {"threads=0", "threads"},
@@ -288,8 +294,13 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
   };
   for (const auto& [assignment, key] : cases) {
     const std::string e = err(assignment);
-    EXPECT_TRUE(contains(e, std::string("option ") + key)) << assignment << ": " << e;
+    EXPECT_TRUE(contains(e, std::string("option ") + key) ||
+                contains(e, std::string("option '") + key + "'"))
+        << assignment << ": " << e;
   }
+  EXPECT_TRUE(contains(err("pin=sideways"), "one of none, compact, scatter, node-round-robin"))
+      << err("pin=sideways");
+  EXPECT_TRUE(contains(err("sides="), "one of auto, one, two")) << err("sides=");
   EXPECT_TRUE(contains(err("threads=0"), ">= 1"));
   EXPECT_EQ(err("min_area=0"), "");
   EXPECT_EQ(err("visibility_rays=0"), "");
@@ -330,6 +341,35 @@ TEST(OptionsIo, CameraKeyIsCheckedWhereItIsRead) {
   e = error_of([&] { validate_options(o); });
   EXPECT_TRUE(contains(e, "option camera = 'eye=0,0,0:look=1,0,0:fov=200': fov 200 is outside"))
       << e;
+}
+
+}  // namespace
+}  // namespace hrad
+
+namespace hrad {
+namespace {
+
+// README's configuration table is the option table's: one row per key, in table order,
+// and for every mode the "allowed" column is its enum's names, in the enum table's
+// order. A value added to an enum table fails here until README says it.
+TEST(OptionsIo, ReadmeTableListsEveryKeyAndEveryModeValue) {
+  const std::string readme = test::read_text(std::filesystem::path(HRAD_SOURCE_DIR) / "README.md");
+  ASSERT_FALSE(readme.empty());
+  std::size_t last = 0;
+  for (const OptionInfo& info : option_table()) {
+    const std::string start = "\n| `" + info.name + "` | ";
+    const std::size_t at = readme.find(start);
+    ASSERT_NE(at, std::string::npos) << "README has no row for " << info.name;
+    EXPECT_GT(at, last) << info.name << " is out of the table's order in README";
+    last = at;
+    if (info.choices.empty()) continue;
+    const std::string row = readme.substr(at + 1, readme.find('\n', at + 1) - at - 1);
+    std::string allowed;
+    for (const std::string& c : info.choices) allowed += (allowed.empty() ? "`" : ", `") + c + "`";
+    EXPECT_TRUE(row.size() > allowed.size() + 2 &&
+                row.compare(row.size() - allowed.size() - 2, allowed.size(), allowed) == 0)
+        << info.name << ": README's allowed column should be " << allowed << "\n  row: " << row;
+  }
 }
 
 }  // namespace

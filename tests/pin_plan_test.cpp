@@ -130,9 +130,9 @@ TEST(PinPlan, ScatterAlternatesPackagesFirst) {
 }
 
 TEST(PinPlan, BadInputIsAnError) {
-  EXPECT_THROW((void)parse_pin_policy("spread"), std::invalid_argument);
-  EXPECT_EQ(parse_pin_policy("node-round-robin"), PinPolicy::NodeRoundRobin);
-  EXPECT_STREQ(pin_policy_name(parse_pin_policy("scatter")), "scatter");
+  EXPECT_THROW((void)parse_enum<PinPolicy>("spread", "pin"), std::invalid_argument);
+  EXPECT_EQ(parse_enum<PinPolicy>("node-round-robin", "pin"), PinPolicy::NodeRoundRobin);
+  EXPECT_STREQ(enum_name(parse_enum<PinPolicy>("scatter", "pin")), "scatter");
   EXPECT_THROW((void)make_pin_plan(by_hand({2}), PinPolicy::Compact, 0), std::invalid_argument);
   EXPECT_THROW((void)make_pin_plan(TopologyInfo{}, PinPolicy::Compact, 1), std::invalid_argument);
   EXPECT_EQ(format_pu_list({3, 0, 1, 2, 8, 10, 11}), "0-3,8,10-11");
@@ -160,7 +160,7 @@ TEST(PinPlan, SyntheticTopologiesGiveTheHandBuiltPlans) {
       const PinPlan a = make_pin_plan(t, p, threads), b = make_pin_plan(h, p, threads);
       for (int i = 0; i < threads; ++i) {
         EXPECT_EQ(a.refiners[static_cast<std::size_t>(i)].pus, b.refiners[static_cast<std::size_t>(i)].pus)
-            << c.spec << " " << pin_policy_name(p) << " refiner " << i;
+            << c.spec << " " << enum_name(p) << " refiner " << i;
         EXPECT_EQ(a.refiners[static_cast<std::size_t>(i)].node, b.refiners[static_cast<std::size_t>(i)].node);
       }
     }

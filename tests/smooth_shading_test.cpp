@@ -237,12 +237,12 @@ TEST(SmoothShading, RejectsBadInput) {
   EXPECT_THROW((void)shade_patches(p.list, Shading::Smooth, 0), std::invalid_argument);
   p.list[0].corners = p.list[0].corners.first(2);
   EXPECT_THROW((void)shade_patches(p.list, Shading::Flat, 1e-9), std::invalid_argument);
-  EXPECT_EQ(parse_shading("flat"), Shading::Flat);
+  EXPECT_EQ(enum_from_name<Shading>("flat"), Shading::Flat);
   try {
-    (void)parse_shading("gouraud");
+    (void)parse_enum<Shading>("gouraud", "shading");
     ADD_FAILURE() << "no error";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("smooth or flat"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("allowed: smooth, flat"), std::string::npos) << e.what();
   }
 }
 

@@ -57,7 +57,7 @@ TEST(SolverFurnace, NormalizedRowSumsGiveClosedFormEverywhere) {
                                        std::string::npos ? "?" : "&") + "rho=" + std::to_string(rho));
       SolverOptions o;
       o.iterations = 2;
-      o.row_sums = "normalize";
+      o.row_sums = RowSumMode::Normalize;
       Solver s(scene, o);
       const RunStats st = s.run();
       const double e = scene.materials[0].emission[0];
@@ -82,7 +82,7 @@ TEST(SolverFurnace, RawTransportConservesEnergyOnAverage) {
   const Scene scene = furnace(0.5, 1.0, true);
   SolverOptions o;
   o.iterations = 2;
-  o.row_sums = "keep";
+  o.row_sums = RowSumMode::Keep;
   Solver s(scene, o);
   const RunStats st = s.run();
   EXPECT_NEAR(st.iterations.back().row_sum_mean, 1.0, 0.01);
@@ -190,7 +190,7 @@ TEST(SolverDecisionRays, IndependentEstimatesKeepTheLinkSet) {
   o.iterations = 1;
   Solver shared(scene, o);
   const RunStats a = shared.run();
-  o.decision_rays = "independent";
+  o.decision_rays = DecisionRays::Independent;
   Solver independent(scene, o);
   const RunStats b = independent.run();
   ASSERT_GT(a.iterations.at(0).links_created, 1000u);
@@ -210,7 +210,7 @@ TEST(SolverFurnace, ClampedRowSumsNeverExceedClosedForm) {
     const Scene scene = furnace(rho, 1.0, true);
     SolverOptions o;
     o.iterations = 2;
-    o.row_sums = "clamp";
+    o.row_sums = RowSumMode::Clamp;
     Solver s(scene, o);
     const RunStats st = s.run();
     EXPECT_GT(st.iterations.back().row_sum_corrected, 0u);
@@ -226,7 +226,7 @@ TEST(SolverFurnace, JacobiSweepsFollowGeometricSeries) {
   for (int k : {1, 2, 5, 20}) {
     SolverOptions o;
     o.iterations = 1;
-    o.row_sums = "normalize";
+    o.row_sums = RowSumMode::Normalize;
     o.max_gather_sweeps = k;
     Solver s(scene, o);
     const RunStats st = s.run();
@@ -411,12 +411,12 @@ namespace {
 // weigh it.)
 TEST(SolverClusterReceiver, CosineRedistributesButConservesGatheredPower) {
   const Scene scene = make_builtin("builtin:furnace?objects=1&rho=0.5");
-  auto gathered = [&](const char* mode, std::vector<Solver::Leaf>* leaves) {
+  auto gathered = [&](ClusterReceiver mode, std::vector<Solver::Leaf>* leaves) {
     SolverOptions o;
     o.iterations = 1;
     o.eps = 1e-2;
     o.max_gather_sweeps = 1;
-    o.row_sums = "keep";
+    o.row_sums = RowSumMode::Keep;
     o.cluster_receiver = mode;
     Solver s(scene, o);
     s.run();
@@ -429,7 +429,7 @@ TEST(SolverClusterReceiver, CosineRedistributesButConservesGatheredPower) {
     return power;
   };
   std::vector<Solver::Leaf> iso, cos;
-  const double p_iso = gathered("isotropic", &iso), p_cos = gathered("cosine", &cos);
+  const double p_iso = gathered(ClusterReceiver::Isotropic, &iso), p_cos = gathered(ClusterReceiver::Cosine, &cos);
   EXPECT_GT(p_iso, 0);
   // Equal up to the single precision of the clusters' directional areas (float in
   // the links' form factors, summed in double over the open members by the gather).
@@ -445,8 +445,8 @@ TEST(SolverClusterReceiver, CosineFurnaceStillExactWithNormalizedRowSums) {
   const Scene scene = make_builtin("builtin:furnace?rho=0.9");
   SolverOptions o;
   o.iterations = 2;
-  o.row_sums = "normalize";
-  o.cluster_receiver = "cosine";
+  o.row_sums = RowSumMode::Normalize;
+  o.cluster_receiver = ClusterReceiver::Cosine;
   o.eps = 1e-3;
   Solver s(scene, o);
   s.run();

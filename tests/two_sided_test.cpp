@@ -70,8 +70,8 @@ TEST(BackFaces, ModesAndTheReversedCycle) {
   add_back_faces(none, Sides::Auto);
   EXPECT_EQ(none.faces.size(), 2u);
 
-  EXPECT_EQ(parse_sides("two"), Sides::Two);
-  EXPECT_THROW(parse_sides("2"), std::invalid_argument);
+  EXPECT_EQ(enum_from_name<Sides>("two"), Sides::Two);
+  EXPECT_THROW((void)parse_enum<Sides>("2", "sides"), std::invalid_argument);
 }
 
 TEST(BackFaces, AnExplicitBackIsNotDoubled) {

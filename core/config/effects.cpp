@@ -29,12 +29,6 @@ const char* kForced = "effects = all: computed whatever the scene";
 
 }  // namespace
 
-EffectsMode parse_effects_mode(const std::string& name) {
-  if (name == "auto") return EffectsMode::Auto;
-  if (name == "all") return EffectsMode::All;
-  throw std::invalid_argument("effects must be auto or all, not '" + name + "'");
-}
-
 bool is_convex_enclosure(const Scene& scene, std::string* why) {
   // Vertices referenced by faces (an unreferenced vertex blocks nothing).
   std::vector<std::uint32_t> used(scene.indices.begin(), scene.indices.end());
@@ -98,7 +92,7 @@ bool is_convex_enclosure(const Scene& scene, std::string* why) {
 }
 
 Effects analyse_effects(const Scene& scene, const SolverOptions& options) {
-  const bool all = parse_effects_mode(options.effects) == EffectsMode::All;
+  const bool all = options.effects == EffectsMode::All;
   const std::vector<const Material*> mats = used_materials(scene);
   Effects e;
 

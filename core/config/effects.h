@@ -63,12 +63,6 @@ struct Effects {
   }
 };
 
-enum class EffectsMode : std::uint8_t {
-  Auto,  ///< turn off what the scene does not need
-  All,   ///< compute every effect regardless (the reference for the shortcuts)
-};
-/// Parses "auto" or "all"; throws std::invalid_argument otherwise.
-EffectsMode parse_effects_mode(const std::string& name);
 
 /// Relative tolerance (of the scene's bounding-box diagonal) within which a vertex
 /// counts as on a plane in the convexity test.

@@ -1,58 +1,50 @@
 // SolverOptions: every knob of a run, one plain struct with defaults. The CLI,
 // the JSON config and `--set key=value` all write into it through options_io.h,
-// which rejects unknown keys by name.
+// which rejects unknown keys by name. A mode is an enum whose one table of names
+// (core/base/enum_names.h, beside the enum) gives the values parsing accepts, the
+// help text and the README's "allowed" column; the meanings are in options_io.cpp's
+// key table and the README.
 //
-// | key                 | type   | default      | meaning                                                    |
-// |---------------------|--------|--------------|------------------------------------------------------------|
-// | scheduler           | string | "stack"      | refinement task order (a name in scheduler_names())        |
-// | block_size          | int    | 10           | tasks a refiner takes (and buffers) per scheduler visit    |
-// | threads             | int    | 1            | refiner threads                                            |
-// | oracle              | string | "bf"         | refinement oracle (a name in oracle_names())               |
-// | eps                 | double | 1e-4         | oracle threshold, relative to total emitted power          |
-// | min_area            | double | 1e-4         | smallest element, relative to total scene area             |
-// | iterations          | int    | 4            | refinement iterations (the paper uses 4)                   |
-// | visibility_rays     | int    | 4            | rays per link for the visibility estimate (0: no rays)     |
-// | pin                 | string | "none"       | thread pinning (none, compact, scatter, node-round-robin)  |
-// | placement           | string | "first-touch"| memory placement (first-touch, interleave, node0)          |
-// | pool_order          | string | "submitted"  | central pools sort each batch: submitted, address, subtree |
-// | seed                | uint64 | 1            | mixed into every per-link random number                    |
-// | gather_tolerance    | double | 1e-6         | propagation stops when the estimated remaining change is   |
-// |                     |        |              | below this fraction of the largest radiosity (iterations   |
-// |                     |        |              | before the last: max(this, 1e-4), core/solver/solver.cpp)  |
-// | max_gather_sweeps   | int    | 100000       | hard cap on gather + push-pull sweeps per iteration        |
-// | cluster_model       | string | "directional"| cluster projected areas: isotropic (A/4) or directional    |
-// | cluster_receiver    | string | "isotropic"  | how a cluster hands on what it gathers: isotropic, cosine  |
-// | row_sums            | string | "keep"       | leaf row-sum correction: keep, clamp, normalize            |
-// |                     |        |              | (see core/solver/row_sums.h)                               |
-// | row_sum_rays        | int    | 64           | escape rays per leaf for row_sums = normalize              |
-// | locks_pool          | int    | 0            | hashed locks per class (0: twice the refiner count)        |
-// | trace               | string | ""           | file to record a task trace to ("" = none)                 |
-// | image_width         | int    | 640          | render.png width in pixels (height from the aspect 4:3)    |
-// | effects             | string | "auto"       | auto: skip what the scene does not need                    |
-// |                     |        |              | (core/config/effects.h); all: compute every effect         |
-// | shaft_culling       | string | "off"        | on: V = 1 without rays for pairs whose shaft holds no      |
-// |                     |        |              | polygon (core/transport/shaft.h); off: always cast rays    |
-// | decision_rays       | string | "shared"     | shared: an accepted link keeps the visibility estimate its |
-// |                     |        |              | oracle decided on; independent: where that decision        |
-// |                     |        |              | depended on it, the estimate is drawn again                |
-// |                     |        |              | (core/solver/refiner.h)                                    |
-// | max_memory_gb       | double | 0            | refinement stops with an error when its elements and links |
-// |                     |        |              | pass this (0: 3/4 of the machine's physical memory)        |
-// | camera              | string | ""           | render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=..][:fov=..] |
-// |                     |        |              | (core/scene/camera_spec.h), "auto", or "" (the scene's     |
-// |                     |        |              | own, else automatic)                                       |
-// | sides               | string | "auto"       | back faces for two-sided materials                         |
-// |                     |        |              | (core/scene/back_faces.h): auto (MGF sides 2), one (none), |
-// |                     |        |              | two (every face)                                           |
-// | segments            | int    | 0            | divisions of a circle for MGF sph, cyl, cone, ring, torus: |
-// |                     |        |              | 0 by the shape's size (core/scene/mgf/mgf_segments.h),     |
-// |                     |        |              | or 3..4096                                                 |
-// | shading             | string | "smooth"     | render.png and solution.ply: smooth (vertex values shared  |
-// |                     |        |              | across leaves of one surface) or flat                      |
-// |                     |        |              | (core/output/smooth_shading.h)                             |
-// | exposure            | double | 0            | render.png's exposure, in stops over the automatic one     |
-// |                     |        |              | (core/output/render.h): +1 twice as bright, -1 half        |
+// | key                 | type            | default      | meaning                                 |
+// |---------------------|-----------------|--------------|-----------------------------------------|
+// | scheduler           | string          | "stack"      | refinement task order (scheduler_names) |
+// | block_size          | int             | 10           | tasks a refiner takes per visit         |
+// | threads             | int             | 1            | refiner threads                         |
+// | oracle              | string          | "bf"         | refinement oracle (oracle_names)        |
+// | eps                 | double          | 1e-4         | oracle threshold, of emitted power      |
+// | min_area            | double          | 1e-4         | smallest element, of total area         |
+// | iterations          | int             | 4            | refinement iterations                   |
+// | visibility_rays     | int             | 4            | rays per link (0: no rays)              |
+// | pin                 | PinPolicy       | none         | core/parallel/pin_plan.h                |
+// | placement           | MemBind         | first-touch  | core/parallel/topology.h                |
+// | pool_order          | PoolOrder       | submitted    | schedulers/scheduler.h                  |
+// | seed                | uint64          | 1            | mixed into every per-link random number |
+// | gather_tolerance    | double          | 1e-6         | propagation's stop (core/solver/solver) |
+// | max_gather_sweeps   | int             | 100000       | sweeps per iteration, at most           |
+// | cluster_model       | ClusterModel    | directional  | core/transport/cluster_model.h          |
+// | cluster_receiver    | ClusterReceiver | isotropic    | core/config/modes.h                     |
+// | row_sums            | RowSumMode      | keep         | core/config/modes.h, core/solver/row_sums.h |
+// | row_sum_rays        | int             | 64           | escape rays per leaf (normalize)        |
+// | locks_pool          | int             | 0            | hashed locks per class (0: 2 x threads) |
+// | trace               | string          | ""           | task trace file ("" = none)             |
+// | image_width         | int             | 640          | render.png width                        |
+// | effects             | EffectsMode     | auto         | core/config/modes.h, effects.h          |
+// | shaft_culling       | ShaftCulling    | off          | core/config/modes.h                     |
+// | decision_rays       | DecisionRays    | shared       | core/config/modes.h                     |
+// | max_memory_gb       | double          | 0            | refinement's memory limit (0: 3/4 RAM)  |
+// | camera              | string          | ""           | core/scene/camera_spec.h, auto, or ""   |
+// | sides               | Sides           | auto         | core/scene/back_faces.h                 |
+// | segments            | int             | 0            | MGF circle divisions (0: by size)       |
+// | shading             | Shading         | smooth       | core/config/modes.h                     |
+// | exposure            | double          | 0            | render.png's exposure, in stops         |
 #pragma once
+
+#include "core/config/modes.h"
+#include "core/parallel/pin_plan.h"
+#include "core/parallel/topology.h"
+#include "core/scene/back_faces.h"
+#include "core/transport/cluster_model.h"
+#include "schedulers/scheduler.h"
 
 #include <cstdint>
 #include <string>
@@ -68,27 +60,27 @@ struct SolverOptions {
   double min_area = 1e-4;
   int iterations = 4;
   int visibility_rays = 4;
-  std::string pin = "none";
-  std::string placement = "first-touch";
-  std::string pool_order = "submitted";
+  PinPolicy pin = PinPolicy::None;
+  MemBind placement = MemBind::FirstTouch;
+  PoolOrder pool_order = PoolOrder::Submitted;
   std::uint64_t seed = 1;
   double gather_tolerance = 1e-6;
   int max_gather_sweeps = 100000;
-  std::string cluster_model = "directional";
-  std::string cluster_receiver = "isotropic";
-  std::string row_sums = "keep";
+  ClusterModel cluster_model = ClusterModel::Directional;
+  ClusterReceiver cluster_receiver = ClusterReceiver::Isotropic;
+  RowSumMode row_sums = RowSumMode::Keep;
   int row_sum_rays = 64;
   int locks_pool = 0;
   std::string trace;
   int image_width = 640;
-  std::string effects = "auto";
-  std::string shaft_culling = "off";
-  std::string decision_rays = "shared";
+  EffectsMode effects = EffectsMode::Auto;
+  ShaftCulling shaft_culling = ShaftCulling::Off;
+  DecisionRays decision_rays = DecisionRays::Shared;
   double max_memory_gb = 0;
   std::string camera;
-  std::string sides = "auto";
+  Sides sides = Sides::Auto;
   int segments = 0;
-  std::string shading = "smooth";
+  Shading shading = Shading::Smooth;
   double exposure = 0;
 };
 

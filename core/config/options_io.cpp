@@ -17,8 +17,17 @@
 namespace hrad {
 namespace {
 
-using Member = std::variant<int SolverOptions::*, std::uint64_t SolverOptions::*,
-                            double SolverOptions::*, std::string SolverOptions::*>;
+using S = SolverOptions;
+// One alternative per field type; a mode (an enum with a table of names,
+// core/base/enum_names.h) is written and read as its name.
+using Member =
+    std::variant<int S::*, std::uint64_t S::*, double S::*, std::string S::*, PinPolicy S::*,
+                 MemBind S::*, PoolOrder S::*, ClusterModel S::*, ClusterReceiver S::*,
+                 RowSumMode S::*, EffectsMode S::*, ShaftCulling S::*, DecisionRays S::*,
+                 Sides S::*, Shading S::*>;
+
+template <class T>
+constexpr bool kIsMode = std::is_enum_v<T>;
 
 // The one table of keys. Order and meanings follow the table in core/config/options.h;
 // OptionInfo::type is derived from the member's type, so it cannot disagree.
@@ -39,7 +48,6 @@ void check_camera_text(const std::string& text) {
 }
 
 const std::vector<Row>& rows() {
-  using S = SolverOptions;
   static const std::vector<Row> table = {
       {"scheduler", &S::scheduler, "refinement scheduler (task order), by name", nullptr,
        &scheduler_names},
@@ -51,35 +59,26 @@ const std::vector<Row>& rows() {
       {"iterations", &S::iterations, "refinement iterations (the paper uses 4)"},
       {"visibility_rays", &S::visibility_rays,
        "rays per link for the visibility estimate (0: no rays)"},
-      {"pin", &S::pin, "thread pinning: none, compact, scatter, node-round-robin"},
-      {"placement", &S::placement, "memory placement: first-touch, interleave, node0"},
-      {"pool_order", &S::pool_order,
-       "central pools sort each submitted batch: submitted (no), address, subtree"},
+      {"pin", &S::pin, "thread pinning"},
+      {"placement", &S::placement, "memory placement"},
+      {"pool_order", &S::pool_order, "how central pools sort each submitted batch"},
       {"seed", &S::seed, "mixed into every per-link random number"},
       {"gather_tolerance", &S::gather_tolerance,
        "the last iteration's propagation stops when the estimated remaining change is "
        "below this fraction of the largest radiosity (earlier iterations at max(this, 1e-4))"},
       {"max_gather_sweeps", &S::max_gather_sweeps,
        "hard cap on gather + push-pull sweeps per iteration"},
-      {"cluster_model", &S::cluster_model,
-       "cluster projected areas: isotropic (A/4, Sillion 1995) or directional (per axis)"},
+      {"cluster_model", &S::cluster_model, "cluster projected areas"},
       {"cluster_receiver", &S::cluster_receiver,
-       "how a cluster hands what it gathers to its members: isotropic or cosine"},
-      {"row_sums", &S::row_sums,
-       "leaf row-sum correction: keep, clamp (at 1) or normalize (to 1 - escape, by rays)"},
+       "how a cluster hands what it gathers to its members"},
+      {"row_sums", &S::row_sums, "leaf row-sum rescale, for studies"},
       {"row_sum_rays", &S::row_sum_rays, "escape rays per leaf when row_sums = normalize"},
       {"locks_pool", &S::locks_pool, "hashed locks per lock class (0: twice the refiner count)"},
       {"trace", &S::trace, "file to record a task trace to (empty: none)"},
       {"image_width", &S::image_width, "render.png width in pixels (height: 3/4 of it)"},
-      {"effects", &S::effects,
-       "auto: skip what the scene does not need (reported in stats.json); all: compute "
-       "every effect"},
-      {"shaft_culling", &S::shaft_culling,
-       "on: no rays for pairs whose shaft holds no polygon (V = 1); off: always cast them"},
-      {"decision_rays", &S::decision_rays,
-       "shared: an accepted link keeps the visibility its oracle decided on; independent: "
-       "where the decision depended on it, the link's visibility is estimated again from "
-       "independent rays (unbiased, for the study of that selection)"},
+      {"effects", &S::effects, "which effects are computed"},
+      {"shaft_culling", &S::shaft_culling, "visibility without rays where a shaft is empty"},
+      {"decision_rays", &S::decision_rays, "which rays an accepted link's visibility is from"},
       {"max_memory_gb", &S::max_memory_gb,
        "refinement stops with an error when its elements and links pass this many GB (0: "
        "3/4 of the machine's physical memory)"},
@@ -87,25 +86,58 @@ const std::vector<Row>& rows() {
        "render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG], auto, or empty (the "
        "scene's own, else automatic)",
        &check_camera_text},
-      {"sides", &S::sides,
-       "back faces for two-sided materials: auto (MGF sides 2; OBJ and built-in scenes "
-       "one-sided), one (none: every face one-sided), two (every face two-sided)"},
+      {"sides", &S::sides, "back faces for two-sided materials"},
       {"segments", &S::segments,
        "divisions of a full circle for MGF sph, cyl, cone, ring and torus (0: by each "
        "shape's radius against the scene's diagonal, 16 to 128)"},
-      {"shading", &S::shading,
-       "render.png and solution.ply: smooth (one value per vertex and surface, continuous "
-       "across leaves) or flat (each leaf its own constant)"},
+      {"shading", &S::shading, "how render.png and solution.ply shade the leaves"},
       {"exposure", &S::exposure,
        "render.png's exposure in stops over the automatic exposure (+1: twice as bright)"},
   };
   return table;
 }
 
+template <class T>
+constexpr OptionType type_of_field() {
+  if constexpr (std::is_same_v<T, int>) return OptionType::Int;
+  if constexpr (std::is_same_v<T, std::uint64_t>) return OptionType::UInt64;
+  if constexpr (std::is_same_v<T, double>) return OptionType::Double;
+  return OptionType::String;  // strings, and modes by name
+}
+
 OptionType type_of(const Member& m) {
-  constexpr OptionType kByIndex[] = {OptionType::Int, OptionType::UInt64, OptionType::Double,
-                                     OptionType::String};
-  return kByIndex[m.index()];
+  return std::visit(
+      [](auto member) {
+        using T = std::remove_reference_t<decltype(std::declval<S&>().*member)>;
+        return type_of_field<T>();
+      },
+      m);
+}
+
+/// The value names of a mode's row; empty for other rows.
+std::vector<std::string> choices_of(const Member& m) {
+  return std::visit(
+      [](auto member) {
+        using T = std::remove_reference_t<decltype(std::declval<S&>().*member)>;
+        std::vector<std::string> names;
+        if constexpr (kIsMode<T>)
+          for (const auto& n : enum_names(T{})) names.emplace_back(n.name);
+        return names;
+      },
+      m);
+}
+
+/// Help for a mode's row: its values with their meanings; "" for other rows.
+std::string choices_help(const Member& m) {
+  return std::visit(
+      [](auto member) {
+        using T = std::remove_reference_t<decltype(std::declval<S&>().*member)>;
+        if constexpr (kIsMode<T>)
+          return enum_help_list<T>();
+        else
+          return std::string();
+      },
+      m);
 }
 
 std::string canonical(std::string_view key) {
@@ -146,6 +178,12 @@ bool parse_value(std::string_view text, std::string& out) {
   out = std::string(text);
   return true;
 }
+template <NamedEnum E>
+bool parse_value(std::string_view text, E& out) {
+  const std::optional<E> v = enum_from_name<E>(text);
+  if (v) out = *v;
+  return v.has_value();
+}
 
 // JSON -> typed value, strict: no float for an integer, no string for a number.
 bool from_json_value(const nlohmann::json& j, int& out) {
@@ -177,6 +215,30 @@ bool from_json_value(const nlohmann::json& j, std::string& out) {
   if (!j.is_string()) return false;
   out = j.get<std::string>();
   return true;
+}
+template <NamedEnum E>
+bool from_json_value(const nlohmann::json& j, E& out) {
+  return j.is_string() && parse_value(j.get<std::string>(), out);
+}
+
+/// What a value of this row must be, for a type error: "an integer", "a string", or
+/// for a mode "one of none, compact, ...".
+template <class T>
+std::string expected(const Row& r) {
+  if constexpr (kIsMode<T>)
+    return fmt::format("one of {}", enum_name_list<T>());
+  else
+    return fmt::format("{} {}", type_of(r.member) == OptionType::Int ? "an" : "a",
+                       option_type_name(type_of(r.member)));
+}
+
+/// A field's value as JSON (a mode by its name).
+template <class T>
+nlohmann::json to_json_value(const T& v) {
+  if constexpr (kIsMode<T>)
+    return enum_name(v);
+  else
+    return v;
 }
 
 template <class T>
@@ -220,7 +282,9 @@ const std::vector<OptionInfo>& option_table() {
     for (const Row& r : rows()) {
       std::string help = r.help;
       if (r.names) help += fmt::format(": {}", fmt::join(r.names(), ", "));
-      t.push_back({r.name, type_of(r.member), std::move(help)});
+      const std::string modes = choices_help(r.member);
+      if (!modes.empty()) help += ": " + modes;
+      t.push_back({r.name, type_of(r.member), std::move(help), choices_of(r.member)});
     }
     return t;
   }();
@@ -243,7 +307,7 @@ std::string option_key_list() {
 nlohmann::json options_to_json(const SolverOptions& o) {
   nlohmann::json j = nlohmann::json::object();
   for (const Row& r : rows())
-    std::visit([&](auto member) { j[r.name] = o.*member; }, r.member);
+    std::visit([&](auto member) { j[r.name] = to_json_value(o.*member); }, r.member);
   return j;
 }
 
@@ -253,8 +317,11 @@ std::string option_value_string(const SolverOptions& o, std::string_view key) {
   return std::visit(
       [&](auto member) -> std::string {
         const auto& v = o.*member;
-        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::string>)
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, std::string>)
           return v;
+        else if constexpr (kIsMode<T>)
+          return enum_name(v);
         else
           return fmt::format("{}", v);
       },
@@ -276,10 +343,9 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
         [&](auto member) {
           auto parsed = o.*member;
           if (!from_json_value(value, parsed))
-            throw std::invalid_argument(fmt::format(
-                "{}: option '{}' expects {} {}, got {} {}", source, key,
-                type_of(r->member) == OptionType::Int ? "an" : "a",
-                option_type_name(type_of(r->member)), value.type_name(), brief_json(value)));
+            throw std::invalid_argument(
+                fmt::format("{}: option '{}' expects {}, got {} {}", source, key,
+                            expected<decltype(parsed)>(*r), value.type_name(), brief_json(value)));
           check_syntax(*r, parsed, source);
           o.*member = parsed;
         },
@@ -295,10 +361,9 @@ void apply_option_value(SolverOptions& o, std::string_view key, std::string_view
       [&](auto member) {
         auto parsed = o.*member;
         if (!parse_value(value, parsed))
-          throw std::invalid_argument(
-              fmt::format("{}: option '{}' expects {} {}, got '{}'", source, r->name,
-                          type_of(r->member) == OptionType::Int ? "an" : "a",
-                          option_type_name(type_of(r->member)), brief_text(value)));
+          throw std::invalid_argument(fmt::format("{}: option '{}' expects {}, got '{}'", source,
+                                                  r->name, expected<decltype(parsed)>(*r),
+                                                  brief_text(value)));
         check_syntax(*r, parsed, source);
         o.*member = parsed;
       },
@@ -325,37 +390,16 @@ void validate_options(const SolverOptions& o) {
         "a finite number >= 0");
   check(o.iterations >= 1, "iterations", str(o.iterations), ">= 1");
   check(o.visibility_rays >= 0, "visibility_rays", str(o.visibility_rays), ">= 0");
-  check(o.pin == "none" || o.pin == "compact" || o.pin == "scatter" ||
-            o.pin == "node-round-robin",
-        "pin", o.pin, "one of none, compact, scatter, node-round-robin");
-  check(o.placement == "first-touch" || o.placement == "interleave" || o.placement == "node0",
-        "placement", o.placement, "one of first-touch, interleave, node0");
-  check(o.pool_order == "submitted" || o.pool_order == "address" || o.pool_order == "subtree",
-        "pool_order", o.pool_order, "one of submitted, address, subtree");
   check(std::isfinite(o.gather_tolerance) && o.gather_tolerance > 0, "gather_tolerance",
         str(o.gather_tolerance), "a finite number > 0");
   check(o.max_gather_sweeps >= 1, "max_gather_sweeps", str(o.max_gather_sweeps), ">= 1");
   check(o.max_memory_gb >= 0, "max_memory_gb", str(o.max_memory_gb), ">= 0");
-  check(o.cluster_model == "isotropic" || o.cluster_model == "directional", "cluster_model",
-        o.cluster_model, "isotropic or directional");
-  check(o.cluster_receiver == "isotropic" || o.cluster_receiver == "cosine", "cluster_receiver",
-        o.cluster_receiver, "isotropic or cosine");
-  check(o.row_sums == "keep" || o.row_sums == "clamp" || o.row_sums == "normalize", "row_sums",
-        o.row_sums, "one of keep, clamp, normalize");
   check(o.row_sum_rays >= 1, "row_sum_rays", str(o.row_sum_rays), ">= 1");
   check(o.locks_pool >= 0, "locks_pool", str(o.locks_pool), ">= 0 (0: automatic)");
   check(o.image_width >= 8 && o.image_width <= 16384, "image_width", str(o.image_width),
         "between 8 and 16384");
-  check(o.effects == "auto" || o.effects == "all", "effects", o.effects, "auto or all");
-  check(o.shaft_culling == "on" || o.shaft_culling == "off", "shaft_culling", o.shaft_culling,
-        "on or off");
-  check(o.decision_rays == "shared" || o.decision_rays == "independent", "decision_rays",
-        o.decision_rays, "shared or independent");
-  check(o.sides == "auto" || o.sides == "one" || o.sides == "two", "sides", o.sides,
-        "one of auto, one, two");
   check(o.segments == 0 || (o.segments >= 3 && o.segments <= 4096), "segments",
         str(o.segments), "0 (automatic) or between 3 and 4096");
-  check(o.shading == "smooth" || o.shading == "flat", "shading", o.shading, "smooth or flat");
   check(std::isfinite(o.exposure) && std::abs(o.exposure) <= 64, "exposure", str(o.exposure),
         "a number of stops between -64 and 64");
   for (const Row& r : rows())
@@ -363,7 +407,7 @@ void validate_options(const SolverOptions& o) {
 }
 
 SceneLoadOptions scene_load_options(const SolverOptions& o) {
-  return {parse_sides(o.sides), o.segments};
+  return {o.sides, o.segments};
 }
 
 }  // namespace hrad

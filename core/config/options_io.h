@@ -30,6 +30,10 @@ struct OptionInfo {
   std::string name;
   OptionType type;
   std::string help;  ///< one line: meaning and unit, without the default
+  /// A mode's value names, from its enum's table (core/base/enum_names.h), in table
+  /// order; empty for other keys. Such a key is a string in JSON, and any other text
+  /// is an error naming these.
+  std::vector<std::string> choices;
 };
 
 /// Every key in table order (the order of core/config/options.h). The scheduler and oracle

@@ -13,15 +13,6 @@
 
 namespace hrad {
 
-Shading parse_shading(std::string_view name) {
-  if (name == "smooth") return Shading::Smooth;
-  if (name == "flat") return Shading::Flat;
-  throw std::invalid_argument(
-      fmt::format("unknown shading '{}': use smooth or flat", std::string(name)));
-}
-
-const char* shading_name(Shading s) { return s == Shading::Smooth ? "smooth" : "flat"; }
-
 namespace {
 
 /// Points within a quantum of each other (on a grid of that spacing) as one id.

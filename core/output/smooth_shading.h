@@ -28,6 +28,7 @@
 //   at shared corners only there.
 #pragma once
 
+#include "core/config/modes.h"
 #include "core/scene/render_mesh.h"
 
 #include <span>
@@ -36,11 +37,6 @@
 
 namespace hrad {
 
-enum class Shading { Smooth, Flat };
-
-/// "smooth" or "flat"; throws std::invalid_argument naming the allowed values.
-[[nodiscard]] Shading parse_shading(std::string_view name);
-[[nodiscard]] const char* shading_name(Shading s);
 
 /// Normals of leaves smoothed together differ by at most this angle (degrees).
 inline constexpr double kSmoothAngleDeg = 30;

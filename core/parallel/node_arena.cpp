@@ -9,14 +9,6 @@
 
 namespace hrad {
 
-MemBind parse_placement(const std::string& name) {
-  if (name == "first-touch") return MemBind::FirstTouch;
-  if (name == "interleave") return MemBind::Interleave;
-  if (name == "node0") return MemBind::Node;
-  throw std::invalid_argument(fmt::format(
-      "placement: unknown policy \"{}\" (allowed: first-touch, interleave, node0)", name));
-}
-
 void add_bytes_per_node(std::vector<std::uint64_t>& total, const std::vector<std::uint64_t>& more) {
   total.resize(std::max(total.size(), more.size()), 0);
   for (std::size_t n = 0; n < more.size(); ++n) total[n] += more[n];

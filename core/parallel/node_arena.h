@@ -46,9 +46,6 @@ struct ArenaPlacement {
 /// Adds per-node byte counts `more` into `total` (growing it to the longer size).
 void add_bytes_per_node(std::vector<std::uint64_t>& total, const std::vector<std::uint64_t>& more);
 
-/// "first-touch", "interleave", "node0"; throws std::invalid_argument otherwise.
-[[nodiscard]] MemBind parse_placement(const std::string& name);
-
 class NodeArena {
  public:
   static constexpr std::size_t kPageBytes = 4096;

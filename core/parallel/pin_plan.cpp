@@ -8,25 +8,6 @@
 
 namespace hrad {
 
-PinPolicy parse_pin_policy(const std::string& name) {
-  if (name == "none") return PinPolicy::None;
-  if (name == "compact") return PinPolicy::Compact;
-  if (name == "scatter") return PinPolicy::Scatter;
-  if (name == "node-round-robin") return PinPolicy::NodeRoundRobin;
-  throw std::invalid_argument(fmt::format(
-      "pin: unknown policy \"{}\" (allowed: none, compact, scatter, node-round-robin)", name));
-}
-
-const char* pin_policy_name(PinPolicy p) {
-  switch (p) {
-    case PinPolicy::None: return "none";
-    case PinPolicy::Compact: return "compact";
-    case PinPolicy::Scatter: return "scatter";
-    case PinPolicy::NodeRoundRobin: return "node-round-robin";
-  }
-  return "?";
-}
-
 std::vector<int> PinPlan::worker_nodes() const {
   std::vector<int> nodes;
   nodes.reserve(refiners.size());

@@ -19,6 +19,7 @@
 // nodes) are never chosen. Node numbers are logical indices into TopologyInfo::nodes.
 #pragma once
 
+#include "core/base/enum_names.h"
 #include "core/parallel/topology.h"
 
 #include <string>
@@ -27,11 +28,13 @@
 namespace hrad {
 
 enum class PinPolicy { None, Compact, Scatter, NodeRoundRobin };
-
-/// "none", "compact", "scatter", "node-round-robin"; throws std::invalid_argument
-/// naming the value and the allowed ones otherwise.
-[[nodiscard]] PinPolicy parse_pin_policy(const std::string& name);
-[[nodiscard]] const char* pin_policy_name(PinPolicy p);
+inline constexpr EnumName<PinPolicy> kPinPolicyNames[] = {
+    {PinPolicy::None, "none", "the OS places threads"},
+    {PinPolicy::Compact, "compact", "fill one core's PUs, then the next core"},
+    {PinPolicy::Scatter, "scatter", "spread over packages and nodes first"},
+    {PinPolicy::NodeRoundRobin, "node-round-robin", "each refiner every PU of node i mod nodes"},
+};
+constexpr std::span<const EnumName<PinPolicy>> enum_names(PinPolicy) { return kPinPolicyNames; }
 
 /// One thread's binding: the PUs (OS indices; empty = unbound) and their node.
 struct ThreadBinding {

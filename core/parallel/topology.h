@@ -7,6 +7,7 @@
 // `lstopo machine.xml`). Such a topology is reported with synthetic = true.
 #pragma once
 
+#include "core/base/enum_names.h"
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -58,6 +59,12 @@ enum class MemBind {
   Interleave,  ///< pages spread round-robin over every NUMA node
   Node,        ///< every page on one given node
 };
+inline constexpr EnumName<MemBind> kMemBindNames[] = {
+    {MemBind::FirstTouch, "first-touch", "pages where first written"},
+    {MemBind::Interleave, "interleave", "pages round-robin over the nodes"},
+    {MemBind::Node, "node0", "every page on node 0"},
+};
+constexpr std::span<const EnumName<MemBind>> enum_names(MemBind) { return kMemBindNames; }
 
 /// A loaded topology kept open for binding threads and memory. All binding goes
 /// through here, so hwloc stays in topology.cpp. Binding calls are thread-safe

@@ -9,24 +9,8 @@
 
 namespace hrad {
 
-Sides parse_sides(std::string_view text) {
-  if (text == "auto") return Sides::Auto;
-  if (text == "one") return Sides::One;
-  if (text == "two") return Sides::Two;
-  throw std::invalid_argument(fmt::format("sides '{}': expected auto, one or two", text));
-}
-
-const char* sides_name(Sides s) {
-  switch (s) {
-    case Sides::Auto: return "auto";
-    case Sides::One: return "one";
-    case Sides::Two: return "two";
-  }
-  return "?";
-}
-
 void add_back_faces(Scene& scene, Sides mode) {
-  scene.sides = sides_name(mode);
+  scene.sides = enum_name(mode);
   scene.back_faces = 0;
   scene.back_faces_present = 0;
   if (mode == Sides::One) return;

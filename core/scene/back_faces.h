@@ -16,6 +16,7 @@
 // triangles: no crack between the two sides).
 #pragma once
 
+#include "core/base/enum_names.h"
 #include "core/scene/scene.h"
 
 #include <string>
@@ -24,10 +25,12 @@
 namespace hrad {
 
 enum class Sides { Auto, One, Two };
-
-/// "auto", "one", "two"; std::invalid_argument for anything else.
-Sides parse_sides(std::string_view text);
-const char* sides_name(Sides s);
+inline constexpr EnumName<Sides> kSidesNames[] = {
+    {Sides::Auto, "auto", "MGF sides 2; OBJ and built-in scenes one-sided"},
+    {Sides::One, "one", "no back faces: every face one-sided"},
+    {Sides::Two, "two", "every face two-sided"},
+};
+constexpr std::span<const EnumName<Sides>> enum_names(Sides) { return kSidesNames; }
 
 /// Appends the back faces `mode` asks for and records the mode and the counts in
 /// scene.sides, scene.back_faces and scene.back_faces_present. Run once per scene.

@@ -13,12 +13,6 @@
 
 namespace hrad {
 
-ClusterReceiver parse_cluster_receiver(const std::string& name) {
-  if (name == "isotropic") return ClusterReceiver::Isotropic;
-  if (name == "cosine") return ClusterReceiver::Cosine;
-  throw std::invalid_argument("cluster_receiver must be isotropic or cosine, not '" + name + "'");
-}
-
 namespace {
 
 // `elements` is in breadth-first order (parents before children, each level's

@@ -15,6 +15,7 @@
 // `tolerance` (or c_k is 0, or the sweep cap is hit, or the iteration diverges).
 #pragma once
 
+#include "core/config/modes.h"
 #include "core/hierarchy/element.h"
 
 #include <functional>
@@ -33,15 +34,8 @@ struct PropagationResult {
   bool diverged = false;
 };
 
-/// How a cluster receiver hands what it gathers to its members:
-///  Isotropic  every member gets the cluster's mean irradiance (Sillion 1995);
-///  Cosine     each link's irradiance is split along +-x, +-y, +-z by its direction
-///             and a member with normal n gets sum_i max(0, +-n_i) / |n|_1 of each
-///             part: its own cosine in the directional model (exact for axis-aligned
-///             members; see add_by_axis in core/hierarchy/element.h).
-///             The total over the members is the same as with Isotropic.
-enum class ClusterReceiver : std::uint8_t { Isotropic, Cosine };
-ClusterReceiver parse_cluster_receiver(const std::string& name);
+// ClusterReceiver (how a cluster receiver hands what it gathers to its members) is an
+// option: core/config/modes.h.
 
 /// Gather + push: sets `next` of every element to the total irradiance H it
 /// receives from its own and its ancestors' links, each link contributing

@@ -13,13 +13,6 @@
 
 namespace hrad {
 
-RowSumMode parse_row_sum_mode(const std::string& name) {
-  if (name == "keep") return RowSumMode::Keep;
-  if (name == "clamp") return RowSumMode::Clamp;
-  if (name == "normalize") return RowSumMode::Normalize;
-  throw std::invalid_argument("row_sums must be keep, clamp or normalize, not '" + name + "'");
-}
-
 namespace {
 
 // How far above max(1, plain row sum) the open-area gain may lift a leaf. A cap at

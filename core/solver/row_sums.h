@@ -35,13 +35,8 @@ namespace hrad {
 class Hierarchy;
 class RayScene;
 
-enum class RowSumMode : std::uint8_t { Keep, Clamp, Normalize };
-
 /// Half-width of the band around 1 that RowSumStats::within_band counts.
 inline constexpr double kRowSumBand = 0.03;
-
-/// Parses "keep", "clamp" or "normalize"; throws std::invalid_argument otherwise.
-RowSumMode parse_row_sum_mode(const std::string& name);
 
 struct RowSumStats {
   double min = 0, max = 0, area_mean = 0;  ///< of the uncorrected leaf row sums

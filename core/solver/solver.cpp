@@ -124,23 +124,23 @@ struct Solver::Impl {
         options(o),
         progress(std::move(p)),
         topology(std::make_unique<Topology>()),
-        plan(make_pin_plan(topology->info(), parse_pin_policy(o.pin), o.threads)),
+        plan(make_pin_plan(topology->info(), o.pin, o.threads)),
         rays(RayScene::from_scene(s)),
         hierarchy(build_hierarchy(
             s, o.threads,
-            ArenaPlacement{parse_placement(o.placement), topology->info().numa_nodes,
+            ArenaPlacement{o.placement, topology->info().numa_nodes,
                            plan.worker_nodes(), topology.get()},
             *topology, plan)),
-        transport(hierarchy, rays, o.visibility_rays, o.seed, parse_cluster_model(o.cluster_model)),
+        transport(hierarchy, rays, o.visibility_rays, o.seed, o.cluster_model),
         oracle(make_oracle(o.oracle)),
-        row_sum_mode(parse_row_sum_mode(o.row_sums)),
-        receiver_mode(parse_cluster_receiver(o.cluster_receiver)),
+        row_sum_mode(o.row_sums),
+        receiver_mode(o.cluster_receiver),
         emitted_power(s.max_channel_emitted_power()),
         total_area(s.total_area()) {
     effects = analyse_effects(s, o);
     transport.set_visibility_effect(effects.visibility.on);
-    transport.set_shaft_culling(o.shaft_culling == "on" &&
-                                parse_effects_mode(o.effects) == EffectsMode::Auto);
+    transport.set_shaft_culling(o.shaft_culling == ShaftCulling::On &&
+                                o.effects == EffectsMode::Auto);
   }
 
   // The stages of run(), in order (each iteration: refine, prepare, propagate, count).
@@ -180,16 +180,16 @@ RunStats Solver::run() {
   const RefineLimits limits{o.eps * m.emitted_power, o.min_area * m.total_area,
                             memory_limit_bytes(o.max_memory_gb),
                             m.total_area > 0 ? m.emitted_power / m.total_area : 0.0,
-                            o.decision_rays == "independent"};
+                            o.decision_rays == DecisionRays::Independent};
   const SchedulerConfig sched_config{o.threads, o.block_size, m.topology->info().numa_nodes,
-                                     m.plan.worker_nodes(), parse_pool_order(o.pool_order)};
+                                     m.plan.worker_nodes(), o.pool_order};
   RunState r(m.hierarchy, m.transport, *m.oracle, limits, sched_config,
              o.locks_pool > 0 ? o.locks_pool : 2 * o.threads, o.threads);
   RunStats& stats = r.stats;
   r.refiner.set_binding(m.topology.get(), &m.plan);
   add_placement_warnings(m.plan, m.topology->info(), m.hierarchy, o, stats.warnings);
   stats.effects = m.effects;
-  const bool auto_effects = parse_effects_mode(o.effects) == EffectsMode::Auto;
+  const bool auto_effects = o.effects == EffectsMode::Auto;
   const bool solve = m.effects.emission.on;
   m.warn_about_scene(stats);
   if (solve) r.tasks.push_back(Task{&m.hierarchy.root(), &m.hierarchy.root()});

@@ -35,12 +35,6 @@ double polygon_front(std::span<const Vec3> poly, const Vec3& n, const Vec3& p0) 
 
 }  // namespace
 
-ClusterModel parse_cluster_model(const std::string& name) {
-  if (name == "isotropic") return ClusterModel::Isotropic;
-  if (name == "directional") return ClusterModel::Directional;
-  throw std::invalid_argument("cluster_model must be isotropic or directional, not '" + name + "'");
-}
-
 Transport::Transport(const Hierarchy& hierarchy, const RayScene& rays, int visibility_rays,
                      std::uint64_t seed, ClusterModel model)
     : hierarchy_(hierarchy),

@@ -17,6 +17,7 @@
 #pragma once
 
 #include "core/hierarchy/element.h"
+#include "core/transport/cluster_model.h"
 #include "core/transport/shaft.h"
 
 #include <cstdint>
@@ -35,12 +36,6 @@ enum class PairClass : std::uint8_t {
   Regular,
 };
 
-/// How a cluster's projected area and its members' mean cosine are estimated:
-///  isotropic    A/4 in every direction, members see 1/4 (Sillion 1995);
-///  directional  from the members' areas along +-x, +-y, +-z (exact when every
-///               member is axis-aligned, as in most architecture).
-enum class ClusterModel : std::uint8_t { Isotropic, Directional };
-ClusterModel parse_cluster_model(const std::string& name);
 
 class Transport {
  public:

@@ -535,7 +535,7 @@ class Coordinator {
               ojson{{"point", id->point}, {"repetition", id->repetition},
                     {"dir", settings_.dir.string()}, {"immediate", immediate}}
                   .dump());
-    if (p.options.pin != "none" && shared_hosts_ && !warned_pin_) {
+    if (p.options.pin != PinPolicy::None && shared_hosts_ && !warned_pin_) {
       warned_pin_ = true;
       notes_.push_back(fmt::format(
           "point {} pins threads (pin={}) on workers that share a host: hrad pins to the "
