@@ -12,12 +12,12 @@ double reflected_power_scale(const Element& r, const Element& s) {
   return (r.rho * s.B).maxCoeff() * r.area;
 }
 
-double occlusion_weight(const LinkEstimate& l) {
+double occlusion_weight(const LinkEstimate& l, double weight) {
   const bool cluster = l.receiver->is_cluster() || l.source->is_cluster();
-  return cluster && l.visibility < 1 ? kOccludedClusterWeight : 1.0;
+  return cluster && l.visibility < 1 ? weight : 1.0;
 }
 
-double receiver_threshold(const LinkEstimate& l, const OracleThresholds& t) {
+double receiver_threshold(const LinkEstimate& l, const OracleThresholds& t, double floor) {
   const Element& r = *l.receiver;
   if (!(t.mean_irradiance > 0)) return t.eps_power;
   double irradiance = 0;
@@ -29,7 +29,15 @@ double receiver_threshold(const LinkEstimate& l, const OracleThresholds& t) {
   }
   // Nothing gathered yet (the first iteration): nothing known about its light.
   if (!gathered) return t.eps_power;
-  return t.eps_power * std::clamp(irradiance / t.mean_irradiance, kDarkThresholdFloor, 1.0);
+  return t.eps_power * std::clamp(irradiance / t.mean_irradiance, floor, 1.0);
+}
+
+std::vector<ParamSpec> weighting_params() {
+  return {{"occluded_cluster_weight", ParamSpec::Type::Double, kOccludedClusterWeight, 1, 1000,
+           "how many times its power an occluded link with a cluster end counts"},
+          {"dark_floor", ParamSpec::Type::Double, kDarkThresholdFloor, 0.001, 1,
+           "the tightest a dark receiver's threshold gets, as a fraction of eps (1: never "
+           "tightened)"}};
 }
 
 }  // namespace hrad

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/base/geometry.h"
+#include "core/base/plugin_params.h"
 
 #include <functional>
 #include <memory>
@@ -51,12 +52,22 @@ class IOracle {
   [[nodiscard]] virtual const char* name() const = 0;
 };
 
-using OracleFactory = std::function<std::unique_ptr<IOracle>()>;
-std::unique_ptr<IOracle> make_oracle(const std::string& name);
+/// Builds an oracle from its parameters (`--set oracle.NAME.KEY=VALUE`, read through
+/// `params`, which knows the declared defaults and ranges).
+using OracleFactory = std::function<std::unique_ptr<IOracle>(const PluginParams& params)>;
+/// Creates an oracle by name with `params` (by KEY); throws std::invalid_argument for an
+/// unknown name (listing the known ones) and for a parameter the oracle does not
+/// declare or did not read (PluginParams::report_unused).
+std::unique_ptr<IOracle> make_oracle(const std::string& name, const ParamValues& params = {});
 std::vector<std::string> oracle_names();
 /// Throws make_oracle's std::invalid_argument when `name` is not registered.
 void check_oracle_name(const std::string& name);
-bool register_oracle(const std::string& name, OracleFactory factory);
+/// The parameters `name` declared (throws as check_oracle_name for an unknown name).
+std::span<const ParamSpec> oracle_params(const std::string& name);
+/// Registration: each oracle file defines one `static const bool registered =
+/// register_oracle("name", factory, {parameters});`.
+bool register_oracle(const std::string& name, OracleFactory factory,
+                     std::vector<ParamSpec> params = {});
 
 /// Power reflected at r due to s per unit F, largest channel: rho_r * B_s * A_r.
 double reflected_power_scale(const Element& r, const Element& s);
@@ -77,8 +88,9 @@ double reflected_power_scale(const Element& r, const Element& s);
 ///   16      -0.2 %   +0.5 %  +2.9 %  +0.3 %
 /// Surface-to-surface links are not affected (their estimate is within 1 %).
 constexpr double kOccludedClusterWeight = 8;
-/// kOccludedClusterWeight for an occluded link with a cluster end, else 1.
-double occlusion_weight(const LinkEstimate& link);
+/// `weight` (kOccludedClusterWeight unless an oracle's parameter says otherwise) for an
+/// occluded link with a cluster end, else 1.
+double occlusion_weight(const LinkEstimate& link, double weight = kOccludedClusterWeight);
 
 /// A receiver darker than the scene's mean is judged against its own light. The
 /// threshold eps x total power bounds the power a link may get wrong, the same in a
@@ -95,7 +107,13 @@ double occlusion_weight(const LinkEstimate& link);
 /// gained nothing more; scaling by E_r / (3 x mean) doubled the links for a smaller
 /// gain. Uniformly lit scenes (a furnace) are unchanged.
 constexpr double kDarkThresholdFloor = 0.25;
-/// t.eps_power, scaled for a dark receiver as above.
-double receiver_threshold(const LinkEstimate& link, const OracleThresholds& t);
+/// t.eps_power, scaled for a dark receiver as above, with `floor` in place of
+/// kDarkThresholdFloor when an oracle's parameter says so (1: never tightened).
+double receiver_threshold(const LinkEstimate& link, const OracleThresholds& t,
+                          double floor = kDarkThresholdFloor);
+
+/// The parameters bf and error share: the two constants above, for studies
+/// (oracle.bf.occluded_cluster_weight, oracle.error.dark_floor, ...).
+std::vector<ParamSpec> weighting_params();
 
 }  // namespace hrad

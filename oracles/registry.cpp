@@ -10,15 +10,24 @@
 namespace hrad {
 
 namespace {
-std::map<std::string, OracleFactory>& registry() {
-  static std::map<std::string, OracleFactory> r;
+struct Entry {
+  OracleFactory factory;
+  std::vector<ParamSpec> params;
+};
+std::map<std::string, Entry>& registry() {
+  static std::map<std::string, Entry> r;
   return r;
 }
 }  // namespace
 
-bool register_oracle(const std::string& name, OracleFactory factory) {
-  registry()[name] = std::move(factory);
+bool register_oracle(const std::string& name, OracleFactory factory, std::vector<ParamSpec> params) {
+  registry()[name] = {std::move(factory), std::move(params)};
   return true;
+}
+
+std::span<const ParamSpec> oracle_params(const std::string& name) {
+  check_oracle_name(name);
+  return registry().find(name)->second.params;
 }
 
 std::vector<std::string> oracle_names() {
@@ -33,9 +42,13 @@ void check_oracle_name(const std::string& name) {
         fmt::format("unknown oracle '{}' (known: {})", name, fmt::join(oracle_names(), ", ")));
 }
 
-std::unique_ptr<IOracle> make_oracle(const std::string& name) {
+std::unique_ptr<IOracle> make_oracle(const std::string& name, const ParamValues& values) {
   check_oracle_name(name);
-  return registry().find(name)->second();
+  const Entry& e = registry().find(name)->second;
+  const PluginParams params("oracle " + name, e.params, values);
+  auto oracle = e.factory(params);
+  params.report_unused();
+  return oracle;
 }
 
 }  // namespace hrad

@@ -151,7 +151,7 @@ class BlockedScheduler final : public IScheduler {
   SchedulerCounters counters_;             // guarded by mutex_
 };
 
-const bool registered = register_scheduler("blocked", [](const SchedulerConfig& c) {
+const bool registered = register_scheduler("blocked", [](const SchedulerConfig& c, const PluginParams&) {
   return std::make_unique<BlockedScheduler>(c);
 });
 

@@ -22,7 +22,7 @@ struct FifoTasks {
   [[nodiscard]] bool empty() const { return q.empty(); }
 };
 
-const bool registered = register_scheduler("fifo", [](const SchedulerConfig& c) {
+const bool registered = register_scheduler("fifo", [](const SchedulerConfig& c, const PluginParams&) {
   return std::make_unique<CentralPool<FifoTasks>>(c, "fifo");
 });
 

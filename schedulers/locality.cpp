@@ -132,7 +132,7 @@ class LocalityScheduler final : public IScheduler {
   std::atomic<std::uint64_t> takes_{0}, empty_takes_{0}, submits_{0}, steals_{0};
 };
 
-const bool registered = register_scheduler("locality", [](const SchedulerConfig& c) {
+const bool registered = register_scheduler("locality", [](const SchedulerConfig& c, const PluginParams&) {
   return std::make_unique<LocalityScheduler>(c);
 });
 

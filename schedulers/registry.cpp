@@ -8,15 +8,25 @@
 namespace hrad {
 
 namespace {
-std::map<std::string, SchedulerFactory>& registry() {
-  static std::map<std::string, SchedulerFactory> r;
+struct Entry {
+  SchedulerFactory factory;
+  std::vector<ParamSpec> params;
+};
+std::map<std::string, Entry>& registry() {
+  static std::map<std::string, Entry> r;
   return r;
 }
 }  // namespace
 
-bool register_scheduler(const std::string& name, SchedulerFactory factory) {
-  registry()[name] = std::move(factory);
+bool register_scheduler(const std::string& name, SchedulerFactory factory,
+                        std::vector<ParamSpec> params) {
+  registry()[name] = {std::move(factory), std::move(params)};
   return true;
+}
+
+std::span<const ParamSpec> scheduler_params(const std::string& name) {
+  check_scheduler_name(name);
+  return registry().find(name)->second.params;
 }
 
 std::vector<std::string> scheduler_names() {
@@ -36,7 +46,10 @@ std::unique_ptr<IScheduler> make_scheduler(const std::string& name, const Schedu
   const auto it = registry().find(name);
   if (config.threads < 1 || config.block_size < 1)
     throw std::invalid_argument("scheduler needs threads >= 1 and block_size >= 1");
-  return it->second(config);
+  const PluginParams params("scheduler " + name, it->second.params, config.params);
+  auto scheduler = it->second.factory(config, params);
+  params.report_unused();
+  return scheduler;
 }
 
 }  // namespace hrad

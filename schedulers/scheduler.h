@@ -15,6 +15,7 @@
 #pragma once
 
 #include "core/base/enum_names.h"
+#include "core/base/plugin_params.h"
 
 #include <cstdint>
 #include <functional>
@@ -59,6 +60,9 @@ struct SchedulerConfig {
   std::vector<int> worker_node;
   /// Batch order of the central pools (stack, fifo, priority, blocked, locality).
   PoolOrder pool_order = PoolOrder::Submitted;
+  /// The scheduler's own parameters (`--set scheduler.NAME.KEY=VALUE`), by KEY; the
+  /// scheduler declares them when it registers and reads them in its factory.
+  ParamValues params;
 };
 
 /// Counters a scheduler keeps; summed over workers.
@@ -95,19 +99,27 @@ class IScheduler {
   [[nodiscard]] virtual const char* name() const = 0;
 };
 
-using SchedulerFactory = std::function<std::unique_ptr<IScheduler>(const SchedulerConfig&)>;
+/// Builds a scheduler from its configuration and its parameters (config.params, read
+/// through `params`, which knows the declared defaults and ranges).
+using SchedulerFactory =
+    std::function<std::unique_ptr<IScheduler>(const SchedulerConfig&, const PluginParams& params)>;
 
 /// Creates a scheduler by name; throws std::invalid_argument listing the known
-/// names when `name` is unknown.
+/// names when `name` is unknown, and for a parameter in config.params that the
+/// scheduler does not declare or did not read (PluginParams::report_unused).
 std::unique_ptr<IScheduler> make_scheduler(const std::string& name, const SchedulerConfig& config);
 std::vector<std::string> scheduler_names();
+/// The parameters `name` declared (throws as make_scheduler for an unknown name).
+std::span<const ParamSpec> scheduler_params(const std::string& name);
 
 /// Throws make_scheduler's std::invalid_argument when `name` is not registered; checks
 /// a name without building a scheduler.
 void check_scheduler_name(const std::string& name);
 
 /// Registration: each scheduler file defines one `static const bool registered =
-/// register_scheduler("name", factory);` — a new scheduler is one new file.
-bool register_scheduler(const std::string& name, SchedulerFactory factory);
+/// register_scheduler("name", factory, {parameters});` — a new scheduler, with its own
+/// parameters, is one new file.
+bool register_scheduler(const std::string& name, SchedulerFactory factory,
+                        std::vector<ParamSpec> params = {});
 
 }  // namespace hrad

@@ -22,7 +22,7 @@ struct LifoTasks {
   [[nodiscard]] bool empty() const { return v.empty(); }
 };
 
-const bool registered = register_scheduler("stack", [](const SchedulerConfig& c) {
+const bool registered = register_scheduler("stack", [](const SchedulerConfig& c, const PluginParams&) {
   return std::make_unique<CentralPool<LifoTasks>>(c, "stack");
 });
 

@@ -6,13 +6,15 @@
 // |------------|------|---------|------------------------------------------------------|
 // | threads    | int  | 1       | workers; one WsDeque (ws_deque.h) each               |
 // | block_size | int  | 1       | at most this many tasks per take(), popped or stolen |
+// | victims    | int  | 0       | its own parameter (scheduler.stealing.victims): other |
+// |            |      |         | workers a thief looks at per steal, 0 = all of them   |
 //
 // take(w) looks, in order, at:
 //  1. w's own deque: up to block_size tasks, newest first (depth-first, like the
 //     recursion), one seq_cst fence per block;
 //  2. the inbox (below): up to block_size tasks, newest first;
 //  3. the other deques: victims scanned round-robin from a start drawn by w's own
-//     deterministic generator; from the first non-empty victim it steals its *oldest*
+//     deterministic generator (at most `victims` of them, when that is set); from the first non-empty victim it steals its *oldest*
 //     tasks (the largest pending subtrees), one CAS each, up to min(block_size, half the
 //     victim's tasks rounded up). Every stolen task counts in SchedulerCounters::steals.
 //
@@ -74,9 +76,10 @@ struct alignas(64) Worker {
 
 class StealingScheduler final : public IScheduler {
  public:
-  explicit StealingScheduler(const SchedulerConfig& config)
+  StealingScheduler(const SchedulerConfig& config, int victims)
       : threads_(config.threads),
         block_size_(static_cast<std::size_t>(config.block_size)),
+        victims_(victims > 0 ? std::min(victims, config.threads - 1) : config.threads - 1),
         workers_(new Worker[static_cast<std::size_t>(config.threads)]) {
     for (int w = 0; w < threads_; ++w)
       at(w).rng = 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(w + 1);  // never 0
@@ -184,7 +187,7 @@ class StealingScheduler final : public IScheduler {
     me.rng ^= me.rng << 17;
     const int others = threads_ - 1;
     const int start = static_cast<int>(me.rng % static_cast<std::uint64_t>(others));
-    for (int i = 0; i < others; ++i) {
+    for (int i = 0; i < victims_; ++i) {
       int victim = (start + i) % others;
       if (victim >= self) ++victim;  // skip self: victims are 0..threads-1 minus self
       WsDeque<Task>& d = at(victim).deque;
@@ -202,6 +205,7 @@ class StealingScheduler final : public IScheduler {
 
   const int threads_;
   const std::size_t block_size_;
+  const int victims_;  // other workers looked at per steal (1 .. threads_ - 1)
   std::unique_ptr<Worker[]> workers_;
 
   mutable std::mutex inbox_mutex_;
@@ -211,9 +215,13 @@ class StealingScheduler final : public IScheduler {
   std::atomic<std::size_t> inbox_size_{0};
 };
 
-const bool registered = register_scheduler("stealing", [](const SchedulerConfig& c) {
-  return std::make_unique<StealingScheduler>(c);
-});
+const bool registered = register_scheduler(
+    "stealing",
+    [](const SchedulerConfig& c, const PluginParams& p) {
+      return std::make_unique<StealingScheduler>(c, p.get_int("victims"));
+    },
+    {{"victims", ParamSpec::Type::Int, 0, 0, 4096,
+      "other refiners a thief looks at per steal, from a random start (0: all of them)"}});
 
 }  // namespace
 }  // namespace hrad

@@ -53,8 +53,11 @@ TEST_F(Cli, SolveHelpListsTheRegisteredSchedulersAndOracles) {
   EXPECT_EQ(r.status, 0) << r.err;
   const std::string schedulers = fmt::format("{}", fmt::join(hrad::scheduler_names(), ", "));
   const std::string oracles = fmt::format("{}", fmt::join(hrad::oracle_names(), ", "));
-  EXPECT_TRUE(contains(r.out, "by name: " + schedulers + " [config key scheduler")) << r.out;
-  EXPECT_TRUE(contains(r.out, "by name: " + oracles + " [config key oracle")) << r.out;
+  EXPECT_TRUE(contains(r.out, "by name: " + schedulers + "; parameters")) << r.out;
+  EXPECT_TRUE(contains(r.out, "by name: " + oracles + "; parameters")) << r.out;
+  // ... and each declared parameter with its range and default.
+  EXPECT_TRUE(contains(r.out, "stealing.victims (integer 0 ... 4096, default 0)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "bf.dark_floor (number 0.001 ... 1, default 0.25)")) << r.out;
 }
 
 TEST_F(Cli, VersionNamesProgramAndRevision) {

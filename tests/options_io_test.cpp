@@ -1,4 +1,6 @@
 #include "core/config/options_io.h"
+#include "oracles/oracle.h"
+#include "schedulers/scheduler.h"
 #include "tests/read_text.h"
 
 #include <gtest/gtest.h>
@@ -29,7 +31,7 @@ bool contains(const std::string& s, const std::string& part) {
 
 SolverOptions non_default_options() {
   SolverOptions o;
-  o.scheduler = "blocked";
+  o.scheduler = "stealing";
   o.block_size = 25;
   o.threads = 7;
   o.oracle = "error";
@@ -59,6 +61,10 @@ SolverOptions non_default_options() {
   o.shading = Shading::Flat;
   o.exposure = -2.5;
   o.decision_rays = DecisionRays::Independent;
+  // The selected plug-ins' own parameters (every one they declare).
+  o.plugin_params = {{"scheduler.stealing.victims", "3"},
+                     {"oracle.error.occluded_cluster_weight", "2.5"},
+                     {"oracle.error.dark_floor", "0.5"}};
   return o;
 }
 
@@ -95,18 +101,38 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.shading, b.shading);
   EXPECT_EQ(a.exposure, b.exposure);
   EXPECT_EQ(a.decision_rays, b.decision_rays);
+  EXPECT_EQ(a.plugin_params, b.plugin_params);
 }
 
+// One key per field, then one per declared plug-in parameter (KIND.NAME.KEY); the JSON of
+// a configuration has every field and the selected plug-ins' parameters, no others.
 TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
-  const nlohmann::json j = options_to_json(SolverOptions{});
+  const SolverOptions defaults;
+  const nlohmann::json j = options_to_json(defaults);
   std::set<std::string> names;
+  std::size_t fields = 0, selected = 0;
   for (const OptionInfo& i : option_table()) {
     EXPECT_TRUE(names.insert(i.name).second) << "duplicate key " << i.name;
-    EXPECT_TRUE(j.contains(i.name)) << i.name;
     EXPECT_FALSE(i.help.empty()) << i.name;
+    const bool plugin = i.name.find('.') != std::string::npos;
+    if (!plugin) {
+      ++fields;
+      EXPECT_TRUE(j.contains(i.name)) << i.name;
+    } else {
+      const bool chosen = i.name.rfind("scheduler." + defaults.scheduler + ".", 0) == 0 ||
+                          i.name.rfind("oracle." + defaults.oracle + ".", 0) == 0;
+      EXPECT_EQ(j.contains(i.name), chosen) << i.name;
+      selected += chosen;
+    }
   }
-  EXPECT_EQ(names.size(), 30u);  // one per field of SolverOptions
-  EXPECT_EQ(j.size(), names.size());
+  EXPECT_EQ(fields, 30u);  // one per field of SolverOptions but plugin_params
+  std::size_t declared = 0;
+  for (const std::string& n : scheduler_names()) declared += scheduler_params(n).size();
+  for (const std::string& n : oracle_names()) declared += oracle_params(n).size();
+  EXPECT_EQ(names.size(), fields + declared);
+  EXPECT_EQ(selected, oracle_params("bf").size() + scheduler_params("stack").size());
+  EXPECT_EQ(j.size(), fields + selected);
+  EXPECT_EQ(j["oracle.bf.dark_floor"], 0.25);
   EXPECT_EQ(j["scheduler"], "stack");
   EXPECT_EQ(j["iterations"], 4);
   EXPECT_EQ(j["eps"], 1e-4);
@@ -126,10 +152,15 @@ TEST(OptionsIo, JsonRoundTripThroughText) {
 // SolverOptions, TableHasEveryFieldOnceAndJsonHasEveryKey), and --set restores each.
 TEST(OptionsIo, RoundTripValuesDifferFromEveryDefault) {
   const SolverOptions d, o = non_default_options();
+  std::size_t plugin_keys = 0;
   for (const OptionInfo& i : option_table()) {
     const std::string value = option_value_string(o, i.name);
+    // A parameter of a plug-in `o` does not select has no value there ("").
+    if (i.name.find('.') != std::string::npos && value.empty()) continue;
+    plugin_keys += i.name.find('.') != std::string::npos;
     EXPECT_NE(value, option_value_string(d, i.name)) << i.name << " keeps its default";
   }
+  EXPECT_EQ(plugin_keys, o.plugin_params.size());
   SolverOptions set;
   const nlohmann::json j = options_to_json(o);
   for (const auto& [key, value] : j.items())

@@ -37,8 +37,11 @@
 // | segments            | int             | 0            | MGF circle divisions (0: by size)       |
 // | shading             | Shading         | smooth       | core/config/modes.h                     |
 // | exposure            | double          | 0            | render.png's exposure, in stops         |
+// | scheduler.NAME.KEY, | int or double   | the plug-in's| a plug-in's own parameter, declared     |
+// | oracle.NAME.KEY     |                 |              | where it registers (plugin_params)      |
 #pragma once
 
+#include "core/base/plugin_params.h"
 #include "core/config/modes.h"
 #include "core/parallel/pin_plan.h"
 #include "core/parallel/topology.h"
@@ -82,6 +85,10 @@ struct SolverOptions {
   int segments = 0;
   Shading shading = Shading::Smooth;
   double exposure = 0;
+  /// The plug-ins' own parameters (core/base/plugin_params.h), by their option key
+  /// KIND.NAME.KEY ("scheduler.stealing.victims"), each value as checked text. Only
+  /// the selected scheduler's and oracle's may be set (validate_options).
+  ParamValues plugin_params;
 };
 
 }  // namespace hrad

@@ -153,6 +153,50 @@ const Row* find_row(std::string_view key) {
   return nullptr;
 }
 
+// A plug-in's declared parameter as an option key: KIND.NAME.KEY.
+struct PluginRow {
+  std::string key;     ///< "scheduler.stealing.victims"
+  std::string kind;    ///< "scheduler" or "oracle"
+  std::string plugin;  ///< "stealing"
+  ParamSpec spec;
+};
+
+// Built on first use, from the registries (filled during static initialisation).
+const std::vector<PluginRow>& plugin_rows() {
+  static const std::vector<PluginRow> table = [] {
+    std::vector<PluginRow> t;
+    for (const std::string& n : scheduler_names())
+      for (const ParamSpec& p : scheduler_params(n))
+        t.push_back({fmt::format("scheduler.{}.{}", n, p.key), "scheduler", n, p});
+    for (const std::string& n : oracle_names())
+      for (const ParamSpec& p : oracle_params(n))
+        t.push_back({fmt::format("oracle.{}.{}", n, p.key), "oracle", n, p});
+    return t;
+  }();
+  return table;
+}
+
+// A plug-in key as written ('-' for '_' allowed; the dots are its separators).
+const PluginRow* find_plugin_row(std::string_view key) {
+  std::string k(key);
+  for (char& c : k)
+    if (c == '-') c = '_';
+  for (const PluginRow& r : plugin_rows())
+    if (k == r.key) return &r;
+  return nullptr;
+}
+
+const std::string& selected(const SolverOptions& o, const PluginRow& r) {
+  return r.kind == "scheduler" ? o.scheduler : o.oracle;
+}
+
+// Checks and stores one plug-in parameter's value (text).
+void set_plugin_value(SolverOptions& o, const PluginRow& r, std::string_view value,
+                      std::string_view source) {
+  o.plugin_params[r.key] =
+      check_param_value(r.spec, value, fmt::format("{}: option '{}'", source, r.key));
+}
+
 [[noreturn]] void unknown_key(std::string_view source, std::string_view key) {
   std::string hint;
   const std::string c = canonical(key);
@@ -282,10 +326,22 @@ const std::vector<OptionInfo>& option_table() {
     for (const Row& r : rows()) {
       std::string help = r.help;
       if (r.names) help += fmt::format(": {}", fmt::join(r.names(), ", "));
+      // A plug-in key lists the plug-ins' own parameters (the keys KIND.NAME.KEY).
+      std::string params;
+      for (const PluginRow& p : plugin_rows())
+        if (p.kind == r.name)
+          params += fmt::format("{}{}.{}", params.empty() ? "" : "; ", p.plugin, describe_param(p.spec));
+      if (!params.empty())
+        help += fmt::format("; parameters (--set {}.NAME.KEY=VALUE): {}", r.name, params);
       const std::string modes = choices_help(r.member);
       if (!modes.empty()) help += ": " + modes;
       t.push_back({r.name, type_of(r.member), std::move(help), choices_of(r.member)});
     }
+    for (const PluginRow& r : plugin_rows())
+      t.push_back({r.key,
+                   r.spec.type == ParamSpec::Type::Int ? OptionType::Int : OptionType::Double,
+                   fmt::format("{} {}'s parameter: {}", r.kind, r.plugin, describe_param(r.spec)),
+                   {}});
     return t;
   }();
   return table;
@@ -293,14 +349,16 @@ const std::vector<OptionInfo>& option_table() {
 
 const OptionInfo* find_option(std::string_view key) {
   const std::string c = canonical(key);
+  const PluginRow* p = find_plugin_row(key);
   for (const OptionInfo& i : option_table())
-    if (i.name == c) return &i;
+    if (i.name == c || (p && i.name == p->key)) return &i;
   return nullptr;
 }
 
 std::string option_key_list() {
   std::string s;
   for (const Row& r : rows()) s += (s.empty() ? "" : ", ") + std::string(r.name);
+  for (const PluginRow& r : plugin_rows()) s += ", " + r.key;
   return s;
 }
 
@@ -308,12 +366,31 @@ nlohmann::json options_to_json(const SolverOptions& o) {
   nlohmann::json j = nlohmann::json::object();
   for (const Row& r : rows())
     std::visit([&](auto member) { j[r.name] = to_json_value(o.*member); }, r.member);
+  // The selected plug-ins' parameters, given or default, so that the object is a
+  // complete configuration of the run.
+  for (const PluginRow& r : plugin_rows())
+    if (selected(o, r) == r.plugin) {
+      const auto it = o.plugin_params.find(r.key);
+      const double v = it != o.plugin_params.end() ? std::stod(it->second) : r.spec.fallback;
+      if (r.spec.type == ParamSpec::Type::Int)
+        j[r.key] = static_cast<long long>(v);
+      else
+        j[r.key] = v;
+    }
   return j;
 }
 
 std::string option_value_string(const SolverOptions& o, std::string_view key) {
   const Row* r = find_row(canonical(key));
-  if (!r) unknown_key("option_value_string", key);
+  if (!r) {
+    // A plug-in's parameter: its value when its plug-in is the selected one, else "".
+    const PluginRow* p = find_plugin_row(key);
+    if (!p) unknown_key("option_value_string", key);
+    if (selected(o, *p) != p->plugin) return "";
+    const auto it = o.plugin_params.find(p->key);
+    return it != o.plugin_params.end() ? it->second
+                                       : check_param_value(p->spec, fmt::format("{}", p->spec.fallback), p->key);
+  }
   return std::visit(
       [&](auto member) -> std::string {
         const auto& v = o.*member;
@@ -338,7 +415,15 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
     const std::string& key = item.key();
     const nlohmann::json& value = item.value();
     const Row* r = find_row(key);
-    if (!r) unknown_key(source, key);
+    if (!r) {
+      const PluginRow* p = find_plugin_row(key);
+      if (!p || p->key != key) unknown_key(source, key);
+      if (!value.is_number() && !value.is_string())
+        throw std::invalid_argument(fmt::format("{}: option '{}' expects a number, got {} {}",
+                                                source, key, value.type_name(), brief_json(value)));
+      set_plugin_value(o, *p, value.is_string() ? value.get<std::string>() : value.dump(), source);
+      continue;
+    }
     std::visit(
         [&](auto member) {
           auto parsed = o.*member;
@@ -356,7 +441,12 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
 void apply_option_value(SolverOptions& o, std::string_view key, std::string_view value,
                         std::string_view source) {
   const Row* r = find_row(canonical(key));
-  if (!r) unknown_key(source, key);
+  if (!r) {
+    const PluginRow* p = find_plugin_row(key);
+    if (!p) unknown_key(source, key);
+    set_plugin_value(o, *p, value, source);
+    return;
+  }
   std::visit(
       [&](auto member) {
         auto parsed = o.*member;
@@ -404,6 +494,27 @@ void validate_options(const SolverOptions& o) {
         "a number of stops between -64 and 64");
   for (const Row& r : rows())
     if (r.check_text) std::visit([&](auto member) { check_syntax(r, o.*member, ""); }, r.member);
+  // Plug-in parameters: declared, in range, and of the selected plug-in (nobody else
+  // would read them).
+  for (const auto& [key, value] : o.plugin_params) {
+    const PluginRow* p = find_plugin_row(key);
+    if (!p)
+      throw std::invalid_argument(fmt::format("option {}: no scheduler or oracle declares it", key));
+    (void)check_param_value(p->spec, value, fmt::format("option {}", key));
+    if (selected(o, *p) != p->plugin)
+      throw std::invalid_argument(fmt::format(
+          "option {} = {}: the {} is {}, which does not read it (it is {} {}'s parameter)", key,
+          value, p->kind, selected(o, *p), p->kind, p->plugin));
+  }
+}
+
+ParamValues plugin_params_of(const SolverOptions& o, std::string_view kind) {
+  const std::string prefix =
+      fmt::format("{}.{}.", kind, kind == "scheduler" ? o.scheduler : o.oracle);
+  ParamValues out;
+  for (const auto& [key, value] : o.plugin_params)
+    if (key.rfind(prefix, 0) == 0) out[key.substr(prefix.size())] = value;
+  return out;
 }
 
 SceneLoadOptions scene_load_options(const SolverOptions& o) {

@@ -6,6 +6,11 @@
 // Key names are the field names of SolverOptions (core/config/options.h). In `--set` (and
 // apply_option_value) a key may also be written with '.' or '-' instead of '_'
 // ("locks.pool", "block-size"); JSON config files use the canonical names only.
+// A plug-in's own parameters (core/base/plugin_params.h) are keys too, one per declared
+// parameter of every registered scheduler and oracle: KIND.NAME.KEY
+// ("scheduler.stealing.victims", "oracle.bf.dark_floor"; '-' may replace '_' in
+// `--set`). They are listed after the fields, typed and range-checked by their
+// declaration, and only the selected plug-in's may be set.
 #pragma once
 
 #include "core/config/options.h"
@@ -72,6 +77,10 @@ void apply_option_assignment(SolverOptions& o, const std::string& key_eq_value);
 /// Range checks (threads >= 1, eps > 0, ...). Throws std::invalid_argument whose
 /// message names the first offending option, its value and the allowed range.
 void validate_options(const SolverOptions& o);
+
+/// The selected plug-in's parameters, by KEY: the `kind` ("scheduler" or "oracle") keys
+/// KIND.NAME.KEY of o.plugin_params whose NAME is o.scheduler (o.oracle).
+[[nodiscard]] ParamValues plugin_params_of(const SolverOptions& o, std::string_view kind);
 
 /// The scene options of a (validated) configuration: its `sides` and `segments` keys.
 [[nodiscard]] SceneLoadOptions scene_load_options(const SolverOptions& o);

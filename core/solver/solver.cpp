@@ -132,7 +132,7 @@ struct Solver::Impl {
                            plan.worker_nodes(), topology.get()},
             *topology, plan)),
         transport(hierarchy, rays, o.visibility_rays, o.seed, o.cluster_model),
-        oracle(make_oracle(o.oracle)),
+        oracle(make_oracle(o.oracle, plugin_params_of(o, "oracle"))),
         row_sum_mode(o.row_sums),
         receiver_mode(o.cluster_receiver),
         emitted_power(s.max_channel_emitted_power()),
@@ -181,8 +181,9 @@ RunStats Solver::run() {
                             memory_limit_bytes(o.max_memory_gb),
                             m.total_area > 0 ? m.emitted_power / m.total_area : 0.0,
                             o.decision_rays == DecisionRays::Independent};
-  const SchedulerConfig sched_config{o.threads, o.block_size, m.topology->info().numa_nodes,
-                                     m.plan.worker_nodes(), o.pool_order};
+  const SchedulerConfig sched_config{o.threads,           o.block_size,
+                                     m.topology->info().numa_nodes, m.plan.worker_nodes(),
+                                     o.pool_order,        plugin_params_of(o, "scheduler")};
   RunState r(m.hierarchy, m.transport, *m.oracle, limits, sched_config,
              o.locks_pool > 0 ? o.locks_pool : 2 * o.threads, o.threads);
   RunStats& stats = r.stats;
