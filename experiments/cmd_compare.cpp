@@ -54,7 +54,8 @@ struct RunFolder {
       std::stringstream text;
       text << in.rdbuf();
       try {
-        const auto j = parse_json_document<nlohmann::json>(text.str(), (dir / "stats.json").string(), false);
+        const auto j =
+            parse_json_document<nlohmann::json>(text.str(), (dir / "stats.json").string(), false);
         if (const auto o = j.find("outputs"); o != j.end() && o->is_object()) outputs = *o;
         source = j.at("scene").at("source").get<std::string>();
       } catch (const std::exception&) {
@@ -112,10 +113,10 @@ nlohmann::json probe_report(const ProbeTable& a, const ProbeTable& b, double flo
     if (c.has_se) p["z"] = e.z;
     per.push_back(p);
   }
-  nlohmann::json j = {{"result", a.file},    {"reference", b.file}, {"floor", c.floor},
-                      {"count", c.probes.size()}, {"mean", c.mean}, {"rms", c.rms},
-                      {"median", c.median}, {"bias", c.bias}, {"low", c.low},
-                      {"max", c.max},        {"worst", c.worst},    {"per_probe", per}};
+  nlohmann::json j = {
+      {"result", a.file}, {"reference", b.file}, {"floor", c.floor},   {"count", c.probes.size()},
+      {"mean", c.mean},   {"rms", c.rms},        {"median", c.median}, {"bias", c.bias},
+      {"low", c.low},     {"max", c.max},        {"worst", c.worst},   {"per_probe", per}};
   if (c.has_se) j["within_2se"] = c.within_2se;
   return j;
 }
@@ -124,9 +125,10 @@ nlohmann::json surface_report(const fs::path& a, const fs::path& b, std::size_t 
                               std::uint64_t seed) {
   const RenderMesh ma = read_ply(a), mb = read_ply(b);
   const SurfaceComparison s = compare_surfaces(ma, mb, samples, seed);
-  fmt::print("Surfaces: {} ({} polygons) against reference {} ({} polygons), {} points, {} "
-             "unmatched\n",
-             a.string(), ma.polys.size(), b.string(), mb.polys.size(), s.samples, s.unmatched);
+  fmt::print(
+      "Surfaces: {} ({} polygons) against reference {} ({} polygons), {} points, {} "
+      "unmatched\n",
+      a.string(), ma.polys.size(), b.string(), mb.polys.size(), s.samples, s.unmatched);
   fmt::print("  radiosity relative to the reference's area-weighted mean:\n");
   fmt::print("  {:>8} {:>10} {:>10} {:>10} {:>10}\n", "", "r", "g", "b", "all");
   fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", "L1", s.l1[0], s.l1[1], s.l1[2],
@@ -154,7 +156,8 @@ int run_compare(const CompareArgs& args) {
   try {
     const fs::path a(args.a), b(args.b);
     for (const fs::path& p : {a, b})
-      if (!fs::exists(p)) throw std::invalid_argument(fmt::format("{}: no such file or folder", p.string()));
+      if (!fs::exists(p))
+        throw std::invalid_argument(fmt::format("{}: no such file or folder", p.string()));
     nlohmann::json j = nlohmann::json::object();
     if (!fs::is_directory(a) || !fs::is_directory(b)) {
       // A folder against a file: the folder's probes.csv, if it is its run's.
@@ -172,8 +175,9 @@ int run_compare(const CompareArgs& args) {
     } else {
       const RunFolder fa(a), fb(b);
       if (!fa.source.empty() && !fb.source.empty() && fa.source != fb.source)
-        throw std::invalid_argument(fmt::format("{} solved '{}' but {} solved '{}': not the same scene",
-                                                a.string(), fa.source, b.string(), fb.source));
+        throw std::invalid_argument(
+            fmt::format("{} solved '{}' but {} solved '{}': not the same scene", a.string(),
+                        fa.source, b.string(), fb.source));
       const bool probes = fa.holds("probes", "probes.csv") && fb.holds("probes", "probes.csv");
       const bool surfaces = fa.holds("mesh", "solution.ply") && fb.holds("mesh", "solution.ply");
       if (!probes && !surfaces)
@@ -185,7 +189,8 @@ int run_compare(const CompareArgs& args) {
         j["probes"] = probe_report(read_probe_table(a / "probes.csv"),
                                    read_probe_table(b / "probes.csv"), args.floor, args.per_probe);
       if (surfaces)
-        j["surfaces"] = surface_report(a / "solution.ply", b / "solution.ply", args.samples, args.seed);
+        j["surfaces"] =
+            surface_report(a / "solution.ply", b / "solution.ply", args.samples, args.seed);
     }
     if (!args.json.empty()) write_json_atomically(args.json, j);
   } catch (const std::exception& e) {

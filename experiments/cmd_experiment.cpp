@@ -112,15 +112,15 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
   if (!a.resume.empty()) {
     dir = a.resume;
     if (lead && !is_result_folder(dir)) {
-      print_error(fmt::format("--resume {}: not an experiment result folder (no manifest.json)",
-                              a.resume));
+      print_error(
+          fmt::format("--resume {}: not an experiment result folder (no manifest.json)", a.resume));
       return 1;
     }
   } else if (!a.out.empty()) {
     dir = a.out;
   } else {
-    const fs::path base = fs::path("results") / config.name /
-                          (now_stamp() + (a.quick ? "-quick" : ""));
+    const fs::path base =
+        fs::path("results") / config.name / (now_stamp() + (a.quick ? "-quick" : ""));
     dir = base;
     for (int i = 2; fs::exists(dir); ++i) dir = base.string() + "-" + std::to_string(i);
   }
@@ -149,23 +149,23 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
       mpi::init();
       mpi_started = true;
     }
-    const ExperimentSummary s =
-        distributed ? mpi::run_sweep(inputs, points, settings, mpi_options)
-                    : run_experiment(inputs, points, settings);
+    const ExperimentSummary s = distributed ? mpi::run_sweep(inputs, points, settings, mpi_options)
+                                            : run_experiment(inputs, points, settings);
     if (!lead) return leave(0);
     if (!a.quiet)
-      fmt::print("Experiment {}: {} runs ({} run now, {} already done) in {:.1f} s. Results in "
-                 "{}: runs.csv, iterations.csv, manifest.json.\n",
-                 config.name, s.runs, s.ran, s.skipped, s.seconds, dir.string());
+      fmt::print(
+          "Experiment {}: {} runs ({} run now, {} already done) in {:.1f} s. Results in "
+          "{}: runs.csv, iterations.csv, manifest.json.\n",
+          config.name, s.runs, s.ran, s.skipped, s.seconds, dir.string());
     for (const std::string& w : s.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
   } catch (const Interrupted& e) {
     // The manifest says "interrupted"; the finished runs' rows are complete.
-    print_error(fmt::format("{}: the experiment stopped; {}", e.what(),
-                            resumable(dir, config)
-                                ? fmt::format("finished runs are kept; resume with: hrad experiment "
-                                              "{} --resume {}",
-                                              a.config, dir.string())
-                                : std::string("no run had finished")));
+    print_error(fmt::format(
+        "{}: the experiment stopped; {}", e.what(),
+        resumable(dir, config) ? fmt::format("finished runs are kept; resume with: hrad experiment "
+                                             "{} --resume {}",
+                                             a.config, dir.string())
+                               : std::string("no run had finished")));
     return mpi_started ? leave(e.exit_status()) : e.exit_status();
   } catch (const std::exception& e) {
     if (distributed && !lead) {
@@ -175,7 +175,8 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     }
     print_error(e.what());
     if (resumable(dir, config))
-      fmt::print(stderr, "hrad: finished runs are kept; resume with: hrad experiment {} --resume {}\n",
+      fmt::print(stderr,
+                 "hrad: finished runs are kept; resume with: hrad experiment {} --resume {}\n",
                  a.config, dir.string());
     return mpi_started ? leave(1) : 1;
   }

@@ -47,10 +47,11 @@ std::string reference_csv(const std::vector<Probe>& probes, const ReferenceResul
     const Vec3& n = probes[i].n;
     const Rgb& e = r.probes[i].irradiance;
     const Rgb& s = r.probes[i].std_error;
-    out += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
-                       "{:.9g},{}\n",
-                       p[0], p[1], p[2], n[0], n[1], n[2], e[0], e[1], e[2], s[0], s[1], s[2],
-                       r.probes[i].samples);
+    out += fmt::format(
+        "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
+        "{:.9g},{}\n",
+        p[0], p[1], p[2], n[0], n[1], n[2], e[0], e[1], e[2], s[0], s[1], s[2],
+        r.probes[i].samples);
   }
   return out;
 }
@@ -78,8 +79,8 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
     if (!(check.rel_error > 0)) throw std::invalid_argument("--rel-error must be > 0");
     if (check.threads < 1) throw std::invalid_argument("--threads must be >= 1");
     if (check.max_samples < static_cast<std::uint64_t>(check.batch_size) * check.min_batches)
-      throw std::invalid_argument(fmt::format("--max-samples must be >= {}",
-                                              check.batch_size * check.min_batches));
+      throw std::invalid_argument(
+          fmt::format("--max-samples must be >= {}", check.batch_size * check.min_batches));
   } catch (const std::exception& e) {
     print_error(e.what());
     return 1;
@@ -100,10 +101,10 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
     const ReferenceResult r = tracer->estimate(probes, a.options, progress.callback());
     progress.finish();
     if (a.random_probes > 0)
-      write_file_atomically(out / "probes.txt",
-                            probes_text(probes, fmt::format("{} random surface probes of {}, seed {}",
-                                                            probes.size(), a.scene,
-                                                            a.options.seed)));
+      write_file_atomically(
+          out / "probes.txt",
+          probes_text(probes, fmt::format("{} random surface probes of {}, seed {}", probes.size(),
+                                          a.scene, a.options.seed)));
     write_file_atomically(out / "probes.csv", reference_csv(probes, r));
 
     nlohmann::json unconverged = nlohmann::json::array();
@@ -114,9 +115,8 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
       total += e.samples;
       if (!e.converged) unconverged.push_back(i);
       const Rgb rel = e.std_error / e.irradiance.abs().max(r.floor);
-      per_probe.push_back({{"samples", e.samples},
-                           {"converged", e.converged},
-                           {"relative_se", rel.maxCoeff()}});
+      per_probe.push_back(
+          {{"samples", e.samples}, {"converged", e.converged}, {"relative_se", rel.maxCoeff()}});
     }
     const nlohmann::json j = {
         {"hrad", {{"version", kVersion}, {"git_revision", git_revision()}}},
@@ -152,7 +152,8 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
 
     if (!unconverged.empty()) {
       std::string list;
-      for (const auto& i : unconverged) list += (list.empty() ? "" : ", ") + std::to_string(i.get<std::size_t>());
+      for (const auto& i : unconverged)
+        list += (list.empty() ? "" : ", ") + std::to_string(i.get<std::size_t>());
       fmt::print(stderr,
                  "hrad: warning: {} of {} probes did not reach relative error {} within {} "
                  "samples (0-based): {}\n",
@@ -160,11 +161,11 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
                  list);
     }
     if (!a.quiet)
-      fmt::print("Reference for {}: {} probes, {} paths, {} rays in {:.3g} s ({} round{}), {} "
-                 "converged to relative error {}. Results in {}: probes.csv, reference.json.\n",
-                 a.scene, probes.size(), total, r.rays, r.seconds, r.rounds,
-                 r.rounds == 1 ? "" : "s", probes.size() - unconverged.size(), a.options.rel_error,
-                 out.string());
+      fmt::print(
+          "Reference for {}: {} probes, {} paths, {} rays in {:.3g} s ({} round{}), {} "
+          "converged to relative error {}. Results in {}: probes.csv, reference.json.\n",
+          a.scene, probes.size(), total, r.rays, r.seconds, r.rounds, r.rounds == 1 ? "" : "s",
+          probes.size() - unconverged.size(), a.options.rel_error, out.string());
   } catch (const std::exception& e) {
     std::error_code ec;
     const bool remove = created && fs::is_empty(out, ec);
@@ -233,8 +234,7 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
                        static_cast<char>(std::toupper(static_cast<unsigned char>(h[0]))),
                        h.substr(1), key, option_value_string(defaults, key));
   };
-  sub->add_option("--sides", args->sides, scene_key_help("sides"))
-      ->type_name("MODE");
+  sub->add_option("--sides", args->sides, scene_key_help("sides"))->type_name("MODE");
   sub->add_option("--segments", args->scene_keys.segments, scene_key_help("segments"))
       ->type_name("N");
   sub->add_flag("--quiet", args->quiet, "No progress line and no summary");

@@ -15,9 +15,10 @@ std::string number(double v, bool integer) {
 }
 
 void print_scenes() {
-  fmt::print("Built-in scenes. Use them as the SCENE of 'hrad solve', with optional\n"
-             "parameters: builtin:NAME or builtin:NAME?key=value&key=value\n"
-             "(e.g. builtin:office?desks=40). Every scene is a pure function of its spec.\n");
+  fmt::print(
+      "Built-in scenes. Use them as the SCENE of 'hrad solve', with optional\n"
+      "parameters: builtin:NAME or builtin:NAME?key=value&key=value\n"
+      "(e.g. builtin:office?desks=40). Every scene is a pure function of its spec.\n");
   for (const BuiltinInfo& s : builtin_scenes()) {
     fmt::print("\nbuiltin:{}\n  {}\n", s.name, s.description);
     if (s.params.empty()) {
@@ -28,16 +29,17 @@ void print_scenes() {
     for (const BuiltinParam& p : s.params) {
       name_w = std::max(name_w, p.name.size());
       def_w = std::max(def_w, number(p.default_value, p.integer).size());
-      range_w = std::max(range_w, (number(p.min_value, p.integer) + " .. " +
-                                   number(p.max_value, p.integer)).size());
+      range_w = std::max(
+          range_w,
+          (number(p.min_value, p.integer) + " .. " + number(p.max_value, p.integer)).size());
     }
     fmt::print("  {:<{}}  {:>{}}  {:<{}}  {}\n", "parameter", name_w, "default", def_w, "range",
                range_w, "meaning");
     for (const BuiltinParam& p : s.params)
       fmt::print("  {:<{}}  {:>{}}  {:<{}}  {}{}\n", p.name, name_w,
                  number(p.default_value, p.integer), def_w,
-                 number(p.min_value, p.integer) + " .. " + number(p.max_value, p.integer),
-                 range_w, p.meaning, p.integer ? " (integer)" : "");
+                 number(p.min_value, p.integer) + " .. " + number(p.max_value, p.integer), range_w,
+                 p.meaning, p.integer ? " (integer)" : "");
   }
   fmt::print(
       "\nScene files (chosen by extension, case-insensitive):\n"

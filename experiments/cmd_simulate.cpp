@@ -72,11 +72,13 @@ std::vector<int> parse_procs(const std::string& text) {
     if (used == 0 || used != item.size() || p < 1 || p > 4096)
       throw std::runtime_error(fmt::format(
           "--procs: '{}' is not a processor count (a comma-separated list of integers 1..4096, "
-          "e.g. 1,2,4,8)", item));
+          "e.g. 1,2,4,8)",
+          item));
     procs.push_back(p);
   }
   if (procs.empty() || text.back() == ',')
-    throw std::runtime_error(fmt::format("--procs: '{}' is not a comma-separated list of integers", text));
+    throw std::runtime_error(
+        fmt::format("--procs: '{}' is not a comma-separated list of integers", text));
   std::sort(procs.begin(), procs.end());
   procs.erase(std::unique(procs.begin(), procs.end()), procs.end());
   return procs;
@@ -103,7 +105,8 @@ Measured read_measured(const std::string& file) {
     m.threads = j.at("config").at("threads").get<int>();
     m.scheduler = j.at("config").at("scheduler").get<std::string>();
     m.block_size = j.at("config").at("block_size").get<int>();
-    for (const auto& it : j.at("iterations")) m.refine_s.push_back(it.at("refine_wall_s").get<double>());
+    for (const auto& it : j.at("iterations"))
+      m.refine_s.push_back(it.at("refine_wall_s").get<double>());
     for (double s : m.refine_s) m.total_s += s;
     return m;
   } catch (const nlohmann::json::exception& e) {
@@ -126,7 +129,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   nlohmann::json h = nlohmann::json::parse(header, nullptr, false);
   if (h.is_discarded() || !h.is_object())
     throw std::runtime_error(a.trace + ": not an hrad trace (the header is not a JSON object)");
-  const std::string scheduler = !a.scheduler.empty() ? a.scheduler : h.value("scheduler", std::string("stack"));
+  const std::string scheduler =
+      !a.scheduler.empty() ? a.scheduler : h.value("scheduler", std::string("stack"));
   // A name from the header is the trace's, not a flag's: say so, and what to do.
   const Policy policy = [&] {
     try {
@@ -138,7 +142,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
     }
   }();
   const int block_size = a.block_size > 0 ? a.block_size : h.value("block_size", 1);
-  if (block_size < 1) throw std::runtime_error(fmt::format("--block-size must be >= 1, not {}", block_size));
+  if (block_size < 1)
+    throw std::runtime_error(fmt::format("--block-size must be >= 1, not {}", block_size));
   const int trace_threads = h.value("threads", 0);
   const std::string scene = h.value("scene", std::string());
 
@@ -154,7 +159,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
       cut_ns += d - *a.max_task_ns;
       r.duration_ns = (r.duration_ns & TraceRecord::kBlockStart) | *a.max_task_ns;
     }
-    fmt::print("--max-task-ns {}: cut {} task(s) by {:.6f} s in all\n", *a.max_task_ns, cut, cut_ns * 1e-9);
+    fmt::print("--max-task-ns {}: cut {} task(s) by {:.6f} s in all\n", *a.max_task_ns, cut,
+               cut_ns * 1e-9);
   }
   const TaskGraph graph = build_task_graph(records, a.trace);
   // Costs: the microbenchmark defaults < the trace's gaps (--overheads) < --costs FILE
@@ -162,9 +168,11 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   CostModel costs = default_costs(policy);
   const GapStats gaps = gap_stats(records);
   {
-    const double fixed = policy == Policy::kStealing ? 2 * costs.local_op_ns : costs.take_op_ns + costs.submit_op_ns;
+    const double fixed =
+        policy == Policy::kStealing ? 2 * costs.local_op_ns : costs.take_op_ns + costs.submit_op_ns;
     costs.start_ns = 0;
-    for (const IterationGraph& g : graph.iterations) costs.start_ns += static_cast<double>(g.first_start_ns);
+    for (const IterationGraph& g : graph.iterations)
+      costs.start_ns += static_cast<double>(g.first_start_ns);
     costs.start_ns /= static_cast<double>(graph.iterations.size());
     if (a.overheads == "typical") {
       costs.block_ns = std::max(0.0, gaps.block_median - fixed);
@@ -173,22 +181,28 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
       costs.block_ns = std::max(0.0, gaps.block_mean - fixed);
       costs.task_ns = gaps.task_mean;
     } else {
-      throw std::runtime_error(fmt::format("--overheads: '{}' is not 'typical' or 'all'", a.overheads));
+      throw std::runtime_error(
+          fmt::format("--overheads: '{}' is not 'typical' or 'all'", a.overheads));
     }
   }
   if (!a.costs.empty()) load_costs(a.costs, costs);
   const std::pair<const char*, const std::optional<double>*> flags[] = {
-      {"--take-ns", &a.take_ns},   {"--submit-ns", &a.submit_ns}, {"--steal-ns", &a.steal_ns},
-      {"--block-ns", &a.block_ns}, {"--task-ns", &a.task_ns}};
+      {"--take-ns", &a.take_ns},
+      {"--submit-ns", &a.submit_ns},
+      {"--steal-ns", &a.steal_ns},
+      {"--block-ns", &a.block_ns},
+      {"--task-ns", &a.task_ns}};
   for (const auto& [name, value] : flags)
-    if (*value && !(**value >= 0)) throw std::runtime_error(fmt::format("{} must be >= 0, not {}", name, **value));
+    if (*value && !(**value >= 0))
+      throw std::runtime_error(fmt::format("{} must be >= 0, not {}", name, **value));
   if (a.take_ns) costs.take_op_ns = *a.take_ns;
   if (a.submit_ns) costs.submit_op_ns = *a.submit_ns;
   if (a.steal_ns) costs.steal_task_ns = *a.steal_ns;
   if (a.block_ns) costs.block_ns = *a.block_ns;
   if (a.task_ns) costs.task_ns = *a.task_ns;
   if (a.slowdown) {
-    if (!(*a.slowdown > 0)) throw std::runtime_error(fmt::format("--slowdown must be > 0, not {}", *a.slowdown));
+    if (!(*a.slowdown > 0))
+      throw std::runtime_error(fmt::format("--slowdown must be > 0, not {}", *a.slowdown));
     costs.slowdown = *a.slowdown;
   }
 
@@ -196,8 +210,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
     const std::vector<TraceRecord> other = read_trace(a.calibrate, nullptr);
     const TaskGraph g2 = build_task_graph(other, a.calibrate);
     if (g2.tasks() != graph.tasks())
-      fmt::print(stderr, "hrad: warning: {} has {} tasks, {} has {}: not the same run?\n", a.calibrate,
-                 g2.tasks(), a.trace, graph.tasks());
+      fmt::print(stderr, "hrad: warning: {} has {} tasks, {} has {}: not the same run?\n",
+                 a.calibrate, g2.tasks(), a.trace, graph.tasks());
     costs.slowdown = static_cast<double>(g2.work_ns()) / static_cast<double>(graph.work_ns());
   }
 
@@ -207,20 +221,20 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   // A duration in the unit that shows it (a critical path of 23 us printed as
   // "0.000 s" before).
   const auto duration = [](double ns) {
-    return ns >= 1e9 ? fmt::format("{:.3f} s", ns * 1e-9)
+    return ns >= 1e9   ? fmt::format("{:.3f} s", ns * 1e-9)
            : ns >= 1e6 ? fmt::format("{:.3f} ms", ns * 1e-6)
                        : fmt::format("{:.3f} us", ns * 1e-3);
   };
-  fmt::print("work {} (sum of task durations), critical path {}\n"
-             "gaps between blocks: median {:.0f} ns, mean {:.0f} ns; between tasks in a block: "
-             "median {:.0f} ns, mean {:.0f} ns\n",
-             duration(static_cast<double>(graph.work_ns())),
-             duration([&] {
-               double cp = 0;
-               for (const auto& g : graph.iterations) cp += static_cast<double>(g.critical_path_ns);
-               return cp;
-             }()),
-             gaps.block_median, gaps.block_mean, gaps.task_median, gaps.task_mean);
+  fmt::print(
+      "work {} (sum of task durations), critical path {}\n"
+      "gaps between blocks: median {:.0f} ns, mean {:.0f} ns; between tasks in a block: "
+      "median {:.0f} ns, mean {:.0f} ns\n",
+      duration(static_cast<double>(graph.work_ns())), duration([&] {
+        double cp = 0;
+        for (const auto& g : graph.iterations) cp += static_cast<double>(g.critical_path_ns);
+        return cp;
+      }()),
+      gaps.block_median, gaps.block_mean, gaps.task_median, gaps.task_mean);
   fmt::print("simulated: scheduler {}, block size {}{}\ncosts (ns): {}\n\n", scheduler, block_size,
              policy == Policy::kPriority ? " (priority replayed in fifo order)" : "",
              costs_to_json(costs));
@@ -237,7 +251,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
     c.block_size = block_size;
     c.costs = costs;
     results[runs[i]] = simulate(graph, c, [&](double f) {
-      progress.update(fmt::format("simulate {} procs", runs[i]), (static_cast<double>(i) + f) / static_cast<double>(runs.size()));
+      progress.update(fmt::format("simulate {} procs", runs[i]),
+                      (static_cast<double>(i) + f) / static_cast<double>(runs.size()));
     });
   }
   progress.finish();
@@ -245,29 +260,36 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   const SimResult& base = results.at(1);
   const std::size_t iters = graph.iterations.size();
   std::string table = fmt::format("{:>5}  {:>6}", "procs", "kind");
-  for (std::size_t k = 0; k < iters; ++k) table += fmt::format("  {:>9}", fmt::format("it{} ms", graph.iterations[k].iteration));
-  table += fmt::format("  {:>10}  {:>7}  {:>9}  {:>6}  {:>7}\n", "total ms", "speedup", "lock wait", "idle", "error");
+  for (std::size_t k = 0; k < iters; ++k)
+    table += fmt::format("  {:>9}", fmt::format("it{} ms", graph.iterations[k].iteration));
+  table += fmt::format("  {:>10}  {:>7}  {:>9}  {:>6}  {:>7}\n", "total ms", "speedup", "lock wait",
+                       "idle", "error");
   std::ostringstream csv;
   csv << "kind,scheduler,block_size,procs,iteration,time_s,speedup,busy_share,overhead_share,"
          "lock_wait_share,idle_share,tasks,takes,empty_takes,submits,steals,source,scene\n";
-  auto csv_row = [&](const char* kind, int p, const std::string& iteration, double time_s, double speedup,
-                     const IterationResult* r, const std::string& source) {
+  auto csv_row = [&](const char* kind, int p, const std::string& iteration, double time_s,
+                     double speedup, const IterationResult* r, const std::string& source) {
     const double whole = r ? r->time_ns * p : 0;
-    auto sh = [&](double v) { return whole > 0 ? fmt::format("{:.6f}", v / whole) : std::string(); };
-    csv << fmt::format("{},{},{},{},{},{:.9g},{:.6g},{},{},{},{},{},{},{},{},{},{},{}\n", kind, scheduler, block_size, p,
-                       iteration, time_s, speedup, r ? sh(r->busy_ns) : "", r ? sh(r->overhead_ns) : "",
-                       r ? sh(r->lock_wait_ns) : "", r ? sh(r->idle_ns) : "", r ? std::to_string(r->tasks) : "",
-                       r ? std::to_string(r->takes) : "", r ? std::to_string(r->empty_takes) : "",
-                       r ? std::to_string(r->submits) : "", r ? std::to_string(r->steals) : "", source,
-                       scene);
+    auto sh = [&](double v) {
+      return whole > 0 ? fmt::format("{:.6f}", v / whole) : std::string();
+    };
+    csv << fmt::format("{},{},{},{},{},{:.9g},{:.6g},{},{},{},{},{},{},{},{},{},{},{}\n", kind,
+                       scheduler, block_size, p, iteration, time_s, speedup,
+                       r ? sh(r->busy_ns) : "", r ? sh(r->overhead_ns) : "",
+                       r ? sh(r->lock_wait_ns) : "", r ? sh(r->idle_ns) : "",
+                       r ? std::to_string(r->tasks) : "", r ? std::to_string(r->takes) : "",
+                       r ? std::to_string(r->empty_takes) : "", r ? std::to_string(r->submits) : "",
+                       r ? std::to_string(r->steals) : "", source, scene);
   };
   for (int p : procs) {
     const SimResult& r = results.at(p);
     const IterationResult t = r.totals();
     table += fmt::format("{:>5}  {:>6}", p, "sim");
-    for (const IterationResult& it : r.iterations) table += fmt::format("  {:>9.2f}", it.time_ns * 1e-6);
-    table += fmt::format("  {:>10.2f}  {:>7.2f}  {:>9}  {:>6}  {:>7}\n", t.time_ns * 1e-6, base.time_ns() / t.time_ns,
-                         share(t.lock_wait_ns, t.time_ns * p), share(t.idle_ns, t.time_ns * p), "");
+    for (const IterationResult& it : r.iterations)
+      table += fmt::format("  {:>9.2f}", it.time_ns * 1e-6);
+    table += fmt::format("  {:>10.2f}  {:>7.2f}  {:>9}  {:>6}  {:>7}\n", t.time_ns * 1e-6,
+                         base.time_ns() / t.time_ns, share(t.lock_wait_ns, t.time_ns * p),
+                         share(t.idle_ns, t.time_ns * p), "");
     for (std::size_t k = 0; k < r.iterations.size(); ++k) {
       const IterationResult& it = r.iterations[k];
       csv_row("simulated", p, std::to_string(it.iteration), it.time_ns * 1e-9,
@@ -281,31 +303,35 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
         const double s = static_cast<double>(graph.iterations[k].measured_span_ns) * 1e-9;
         total += s;
         table += fmt::format("  {:>9.2f}", s * 1e3);
-        csv_row("measured-trace", p, std::to_string(graph.iterations[k].iteration), s, 0, nullptr, a.trace);
+        csv_row("measured-trace", p, std::to_string(graph.iterations[k].iteration), s, 0, nullptr,
+                a.trace);
       }
-      table += fmt::format("  {:>10.2f}  {:>7}  {:>9}  {:>6}  {:>+6.1f}%\n", total * 1e3, "", "", "",
-                           100 * (t.time_ns * 1e-9 - total) / total);
+      table += fmt::format("  {:>10.2f}  {:>7}  {:>9}  {:>6}  {:>+6.1f}%\n", total * 1e3, "", "",
+                           "", 100 * (t.time_ns * 1e-9 - total) / total);
       csv_row("measured-trace", p, "all", total, 0, nullptr, a.trace);
     }
     for (const Measured& m : measured) {
       if (m.threads != p) continue;
       table += fmt::format("{:>5}  {:>6}", p, "real");
       for (std::size_t k = 0; k < iters; ++k)
-        table += k < m.refine_s.size() ? fmt::format("  {:>9.2f}", m.refine_s[k] * 1e3) : fmt::format("  {:>9}", "-");
-      table += fmt::format("  {:>10.2f}  {:>7}  {:>9}  {:>6}  {:>+6.1f}%\n", m.total_s * 1e3, "", "", "",
-                           100 * (t.time_ns * 1e-9 - m.total_s) / m.total_s);
+        table += k < m.refine_s.size() ? fmt::format("  {:>9.2f}", m.refine_s[k] * 1e3)
+                                       : fmt::format("  {:>9}", "-");
+      table += fmt::format("  {:>10.2f}  {:>7}  {:>9}  {:>6}  {:>+6.1f}%\n", m.total_s * 1e3, "",
+                           "", "", 100 * (t.time_ns * 1e-9 - m.total_s) / m.total_s);
       if (m.scheduler != scheduler || m.block_size != block_size)
-        fmt::print(stderr, "hrad: warning: {} ran {} with block size {}, the simulation {} with {}\n", m.file,
-                   m.scheduler, m.block_size, scheduler, block_size);
+        fmt::print(stderr,
+                   "hrad: warning: {} ran {} with block size {}, the simulation {} with {}\n",
+                   m.file, m.scheduler, m.block_size, scheduler, block_size);
       for (std::size_t k = 0; k < m.refine_s.size(); ++k)
         csv_row("measured", p, std::to_string(k + 1), m.refine_s[k], 0, nullptr, m.file);
       csv_row("measured", p, "all", m.total_s, 0, nullptr, m.file);
     }
   }
   fmt::print("{}", table);
-  fmt::print("\nAll 'sim' rows are simulated (predictions). Measured: 'trace' = the traced run "
-             "from the stage's start\nto its last task's end (read from the trace); 'real' = "
-             "refine_wall_s of a --measured stats.json.\nerror = (simulated - measured) / measured.\n");
+  fmt::print(
+      "\nAll 'sim' rows are simulated (predictions). Measured: 'trace' = the traced run "
+      "from the stage's start\nto its last task's end (read from the trace); 'real' = "
+      "refine_wall_s of a --measured stats.json.\nerror = (simulated - measured) / measured.\n");
   if (!a.out.empty()) {
     write_file_atomically(a.out, csv.str());
     fmt::print("wrote {}\n", a.out);
@@ -322,8 +348,10 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
       "simulate",
       "Replay a task trace (hrad solve --set trace=FILE) as a discrete-event simulation on "
       "more processors and predict refinement times and speed-ups.");
-  sub->add_option("TRACE", args->trace, "trace file written by hrad solve --set trace=FILE")->required();
-  sub->add_option("--procs", args->procs, "comma-separated processor counts")->capture_default_str();
+  sub->add_option("TRACE", args->trace, "trace file written by hrad solve --set trace=FILE")
+      ->required();
+  sub->add_option("--procs", args->procs, "comma-separated processor counts")
+      ->capture_default_str();
   const std::vector<std::string> unmodelled = unmodelled_schedulers();
   const std::string not_modelled =
       unmodelled.empty() ? "none" : fmt::format("{}", fmt::join(unmodelled, ", "));
@@ -332,7 +360,8 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                               "modelled: {}) (default: the trace's)",
                               fmt::join(policy_names(), ", "), not_modelled));
   sub->add_option("--block-size", args->block_size, "tasks per take (default: the trace's)");
-  sub->add_option("--costs", args->costs, "JSON object of cost model fields (experiments/sim/cost_model.h)");
+  sub->add_option("--costs", args->costs,
+                  "JSON object of cost model fields (experiments/sim/cost_model.h)");
   sub->add_option("--take-ns", args->take_ns, "central lock held per take, ns");
   sub->add_option("--submit-ns", args->submit_ns, "central lock held per submit, ns");
   sub->add_option("--steal-ns", args->steal_ns, "per stolen task, ns");
@@ -345,13 +374,15 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--block-ns", args->block_ns, "per-block time outside the scheduler, ns");
   sub->add_option("--task-ns", args->task_ns, "per-task time outside its recorded duration, ns");
   sub->add_option("--slowdown", args->slowdown, "task durations x this at 2 or more processors");
-  sub->add_option("--calibrate", args->calibrate,
-                  "trace of the same run at 2 threads: slowdown = its summed task durations / TRACE's");
+  sub->add_option(
+      "--calibrate", args->calibrate,
+      "trace of the same run at 2 threads: slowdown = its summed task durations / TRACE's");
   sub->add_option("--max-task-ns", args->max_task_ns,
                   "cut task durations above this (ns) to it: removes preemptions recorded inside "
                   "tasks on a loaded machine")
       ->check(CLI::Range(1u, TraceRecord::kBlockStart - 1));
-  sub->add_option("--measured", args->measured, "stats.json of a real run to compare with (repeatable)");
+  sub->add_option("--measured", args->measured,
+                  "stats.json of a real run to compare with (repeatable)");
   sub->add_option("--out", args->out, "write the rows as CSV");
   sub->add_flag("--quiet", args->quiet, "no progress line");
   sub->callback([args, &ctx] {

@@ -59,13 +59,20 @@ struct OptionFlag {
   const char* value_name;
 };
 constexpr OptionFlag kOptionFlags[] = {
-    {"--scheduler", "scheduler", "NAME"}, {"--block-size", "block_size", "N"},
-    {"--threads", "threads", "N"},        {"--oracle", "oracle", "NAME"},
-    {"--eps", "eps", "X"},                {"--min-area", "min_area", "X"},
-    {"--iterations", "iterations", "N"},  {"--pin", "pin", "POLICY"},
-    {"--placement", "placement", "POLICY"}, {"--seed", "seed", "N"},
-    {"--sides", "sides", "MODE"},         {"--segments", "segments", "N"},
-    {"--shading", "shading", "MODE"},     {"--exposure", "exposure", "STOPS"},
+    {"--scheduler", "scheduler", "NAME"},
+    {"--block-size", "block_size", "N"},
+    {"--threads", "threads", "N"},
+    {"--oracle", "oracle", "NAME"},
+    {"--eps", "eps", "X"},
+    {"--min-area", "min_area", "X"},
+    {"--iterations", "iterations", "N"},
+    {"--pin", "pin", "POLICY"},
+    {"--placement", "placement", "POLICY"},
+    {"--seed", "seed", "N"},
+    {"--sides", "sides", "MODE"},
+    {"--segments", "segments", "N"},
+    {"--shading", "shading", "MODE"},
+    {"--exposure", "exposure", "STOPS"},
 };
 
 struct SolveArgs {
@@ -175,8 +182,7 @@ ChosenCamera choose_camera(const SolveArgs& a, const SolverOptions& o,
 fs::path default_out_dir(const Scene& scene) {
   std::string name = scene.name.empty() ? "scene" : scene.name;
   for (char& c : name)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.'))
-      c = '_';
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
   const fs::path base = fs::path("results") / (name + "-" + experiment::now_stamp());
   fs::path dir = base;
   for (int i = 2; fs::exists(dir); ++i) dir = base.string() + "-" + std::to_string(i);
@@ -191,7 +197,7 @@ bool is_empty_dir(const fs::path& dir) {
 nlohmann::json topology_json() {
   try {
     const TopologyInfo t = discover_topology();
-    return {{"packages", t.packages}, {"numa_nodes", t.numa_nodes}, {"cores", t.cores},
+    return {{"packages", t.packages}, {"numa_nodes", t.numa_nodes},   {"cores", t.cores},
             {"pus", t.pus},           {"description", t.description}, {"synthetic", t.synthetic}};
   } catch (const std::exception& e) {
     return {{"error", e.what()}};
@@ -242,7 +248,8 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       if (ext != ".pfm")
         throw std::invalid_argument(fmt::format(
             "--hdr {}: the HDR image is written as a Portable Float Map, so its name must end "
-            "in .pfm", a.hdr));
+            "in .pfm",
+            a.hdr));
     }
     // Loading and preparing can take seconds on large scenes: the line says so.
     progress = std::make_unique<ProgressReporter>(a.quiet);
@@ -251,7 +258,8 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     if (!a.probes.empty()) {
       probes = read_probes(a.probes);
       if (probes.empty())
-        throw std::invalid_argument(fmt::format("{}: holds no probe (only comments or blank lines)", a.probes));
+        throw std::invalid_argument(
+            fmt::format("{}: holds no probe (only comments or blank lines)", a.probes));
     }
     camera = choose_camera(a, options, camera_from, scene);
     if (!scene.warnings.empty()) progress->finish();  // warnings start on a clean line
@@ -338,8 +346,10 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     }
 
     nlohmann::json j = {
-        {"hrad", {{"version", kVersion}, {"git_revision", git_revision()},
-                  {"compiler", build_info().compiler}}},
+        {"hrad",
+         {{"version", kVersion},
+          {"git_revision", git_revision()},
+          {"compiler", build_info().compiler}}},
         {"command_line", ctx.argv},
         {"started_at", started},
         {"config", options_to_json(options)},

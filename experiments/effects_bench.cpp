@@ -79,12 +79,13 @@ void row(const char* effect, const char* scene_name, const Scene& scene, SolverO
          SolverOptions fast, int runs) {
   const Measured a = measure(scene, full, runs);
   const Measured b = measure(scene, fast, runs);
-  fmt::print("| {} | {} | {:.3f} | {:.3f} | {:.0f}% | {:.3f} / {:.3f} | {} / {} | {} / {} | {} / {} "
-             "| {} |\n",
-             effect, scene_name, a.wall_s, b.wall_s, 100 * (1 - b.wall_s / a.wall_s),
-             propagate_s(a.stats), propagate_s(b.stats), a.stats.totals.rays_cast,
-             b.stats.totals.rays_cast, sweeps(a.stats), sweeps(b.stats),
-             a.stats.totals.iterations_run, b.stats.totals.iterations_run, difference(a, b));
+  fmt::print(
+      "| {} | {} | {:.3f} | {:.3f} | {:.0f}% | {:.3f} / {:.3f} | {} / {} | {} / {} | {} / {} "
+      "| {} |\n",
+      effect, scene_name, a.wall_s, b.wall_s, 100 * (1 - b.wall_s / a.wall_s), propagate_s(a.stats),
+      propagate_s(b.stats), a.stats.totals.rays_cast, b.stats.totals.rays_cast, sweeps(a.stats),
+      sweeps(b.stats), a.stats.totals.iterations_run, b.stats.totals.iterations_run,
+      difference(a, b));
 }
 
 Scene with_materials(Scene s, const std::function<void(Material&)>& f) {
@@ -99,11 +100,13 @@ int main(int argc, char** argv) {
   SolverOptions all;
   all.effects = EffectsMode::All;
   SolverOptions fast;
-  fmt::print("best of {} runs, 1 thread, default options; wall time of Solver construction + run\n\n",
-             runs);
-  fmt::print("| effect | scene | all (s) | auto (s) | saved | propagate all / auto (s) | rays all / "
-             "auto | sweeps all / auto | iterations all / auto | max rel. diff |\n"
-             "|---|---|---|---|---|---|---|---|---|---|\n");
+  fmt::print(
+      "best of {} runs, 1 thread, default options; wall time of Solver construction + run\n\n",
+      runs);
+  fmt::print(
+      "| effect | scene | all (s) | auto (s) | saved | propagate all / auto (s) | rays all / "
+      "auto | sweeps all / auto | iterations all / auto | max rel. diff |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n");
   const Scene office = make_builtin("builtin:office");
   {
     SolverOptions a = all, b = fast;
@@ -113,10 +116,12 @@ int main(int argc, char** argv) {
   }
   row("interreflection + iterations", "office, every Kd = 0",
       with_materials(office, [](Material& m) { m.reflectance = Rgb::Zero(); }), all, fast, runs);
-  row("colour", "office, grey (channel mean)", with_materials(office, [](Material& m) {
-        m.reflectance = Rgb::Constant(m.reflectance.mean());
-        m.emission = Rgb::Constant(m.emission.mean());
-      }),
+  row("colour", "office, grey (channel mean)",
+      with_materials(office,
+                     [](Material& m) {
+                       m.reflectance = Rgb::Constant(m.reflectance.mean());
+                       m.emission = Rgb::Constant(m.emission.mean());
+                     }),
       all, fast, runs);
   {
     SolverOptions a = all, b = fast;

@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
       known += (known.empty() ? "" : ", ") + sub->get_name();
     }
     if (!found) {
-      print_error(fmt::format("unknown command '{}' (commands: {}; see hrad --help)", argv[1], known));
+      print_error(
+          fmt::format("unknown command '{}' (commands: {}; see hrad --help)", argv[1], known));
       return 1;
     }
   }

@@ -20,8 +20,7 @@ class BfOracle final : public IOracle {
   Verdict judge(const LinkEstimate& l, const OracleThresholds& t) const override {
     const double err = reflected_power_scale(*l.receiver, *l.source) * l.form_factor *
                        occlusion_weight(l, occluded_weight_);
-    return {err < receiver_threshold(l, t, dark_floor_) ? Decision::Accept : Decision::Refine,
-            err};
+    return {err < receiver_threshold(l, t, dark_floor_) ? Decision::Accept : Decision::Refine, err};
   }
   const char* name() const override { return "bf"; }
 

@@ -46,7 +46,8 @@ struct Verdict {
 class IOracle {
  public:
   virtual ~IOracle() = default;
-  [[nodiscard]] virtual Verdict judge(const LinkEstimate& link, const OracleThresholds& t) const = 0;
+  [[nodiscard]] virtual Verdict judge(const LinkEstimate& link,
+                                      const OracleThresholds& t) const = 0;
   /// True when the oracle wants form_factor_spread computed (it costs extra evaluations).
   [[nodiscard]] virtual bool needs_spread() const { return false; }
   [[nodiscard]] virtual const char* name() const = 0;

@@ -20,7 +20,8 @@ std::map<std::string, Entry>& registry() {
 }
 }  // namespace
 
-bool register_oracle(const std::string& name, OracleFactory factory, std::vector<ParamSpec> params) {
+bool register_oracle(const std::string& name, OracleFactory factory,
+                     std::vector<ParamSpec> params) {
   registry()[name] = {std::move(factory), std::move(params)};
   return true;
 }

@@ -64,7 +64,9 @@ class BlockedScheduler final : public IScheduler {
         order_(config.pool_order),
         stacks_(static_cast<std::size_t>(std::max(config.threads, 1))) {}
 
-  std::size_t take(int worker, std::span<Task> out) override { return take_from(worker, out, true); }
+  std::size_t take(int worker, std::span<Task> out) override {
+    return take_from(worker, out, true);
+  }
   std::size_t take_own(int worker, std::span<Task> out) override {
     return take_from(worker, out, false);
   }
@@ -134,7 +136,10 @@ class BlockedScheduler final : public IScheduler {
       n = other.pop_oldest(out, want, discard);
       counters_.steals += n;
     }
-    if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
+    if (n > 0)
+      ++counters_.takes;
+    else
+      ++counters_.empty_takes;
     return n;
   }
 
@@ -147,13 +152,14 @@ class BlockedScheduler final : public IScheduler {
   const std::size_t block_size_;
   const PoolOrder order_;
   mutable std::mutex mutex_;
-  std::vector<ChunkStack> stacks_;         // one per refiner, guarded by mutex_
-  SchedulerCounters counters_;             // guarded by mutex_
+  std::vector<ChunkStack> stacks_;  // one per refiner, guarded by mutex_
+  SchedulerCounters counters_;      // guarded by mutex_
 };
 
-const bool registered = register_scheduler("blocked", [](const SchedulerConfig& c, const PluginParams&) {
-  return std::make_unique<BlockedScheduler>(c);
-});
+const bool registered =
+    register_scheduler("blocked", [](const SchedulerConfig& c, const PluginParams&) {
+      return std::make_unique<BlockedScheduler>(c);
+    });
 
 }  // namespace
 }  // namespace hrad

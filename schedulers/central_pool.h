@@ -31,7 +31,10 @@ class CentralPool : public IScheduler {
     {
       std::unique_lock lock = acquire();
       while (n < want && !tasks_.empty()) out[n++] = tasks_.pop();
-      if (n > 0) ++counters_.takes; else ++counters_.empty_takes;
+      if (n > 0)
+        ++counters_.takes;
+      else
+        ++counters_.empty_takes;
     }
     return n;
   }

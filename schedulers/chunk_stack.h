@@ -73,14 +73,17 @@ class ChunkStack {
           spares_.push_back(std::move(top));
         else
           discard.swap(top);  // a previous discard, if any, is freed here (rare)
-        if (oldest) chunks_.pop_front(); else chunks_.pop_back();
+        if (oldest)
+          chunks_.pop_front();
+        else
+          chunks_.pop_back();
       }
     }
     size_ -= n;
     return n;
   }
 
-  std::deque<std::vector<Task>> chunks_;  // back() is the top
+  std::deque<std::vector<Task>> chunks_;   // back() is the top
   std::vector<std::vector<Task>> spares_;  // empty, capacity kept
   std::size_t size_ = 0;
 };

@@ -22,9 +22,10 @@ struct FifoTasks {
   [[nodiscard]] bool empty() const { return q.empty(); }
 };
 
-const bool registered = register_scheduler("fifo", [](const SchedulerConfig& c, const PluginParams&) {
-  return std::make_unique<CentralPool<FifoTasks>>(c, "fifo");
-});
+const bool registered =
+    register_scheduler("fifo", [](const SchedulerConfig& c, const PluginParams&) {
+      return std::make_unique<CentralPool<FifoTasks>>(c, "fifo");
+    });
 
 }  // namespace
 }  // namespace hrad

@@ -55,9 +55,13 @@ class LocalityScheduler final : public IScheduler {
       if (n < 0 || static_cast<std::size_t>(n) >= nodes_) n = 0;
   }
 
-  std::size_t take(int worker, std::span<Task> out) override { return take_from(worker, out, nodes_); }
+  std::size_t take(int worker, std::span<Task> out) override {
+    return take_from(worker, out, nodes_);
+  }
   /// Only the refiner's own node's pool.
-  std::size_t take_own(int worker, std::span<Task> out) override { return take_from(worker, out, 1); }
+  std::size_t take_own(int worker, std::span<Task> out) override {
+    return take_from(worker, out, 1);
+  }
 
   void submit(int /*worker*/, std::span<const Task> tasks) override {
     if (tasks.empty()) return;
@@ -114,9 +118,9 @@ class LocalityScheduler final : public IScheduler {
 
   struct alignas(64) Pool {
     mutable std::mutex mutex;
-    ChunkStack stack;                    // guarded by mutex
-    double lock_wait_s = 0;              // guarded by mutex
-    std::atomic<std::size_t> hint{0};    // stack.size() as of the last locked operation
+    ChunkStack stack;                  // guarded by mutex
+    double lock_wait_s = 0;            // guarded by mutex
+    std::atomic<std::size_t> hint{0};  // stack.size() as of the last locked operation
   };
 
   [[nodiscard]] std::size_t node_of_worker(int worker) const {
@@ -132,9 +136,10 @@ class LocalityScheduler final : public IScheduler {
   std::atomic<std::uint64_t> takes_{0}, empty_takes_{0}, submits_{0}, steals_{0};
 };
 
-const bool registered = register_scheduler("locality", [](const SchedulerConfig& c, const PluginParams&) {
-  return std::make_unique<LocalityScheduler>(c);
-});
+const bool registered =
+    register_scheduler("locality", [](const SchedulerConfig& c, const PluginParams&) {
+      return std::make_unique<LocalityScheduler>(c);
+    });
 
 }  // namespace
 }  // namespace hrad

@@ -29,8 +29,9 @@ namespace hrad {
 /// Sorts `batch` by the key of `order` (stable; nothing happens for Submitted).
 inline void order_batch(std::span<Task> batch, PoolOrder order) {
   if (order == PoolOrder::Address) {
-    std::stable_sort(batch.begin(), batch.end(),
-                     [](const Task& a, const Task& b) { return std::less<>()(a.receiver, b.receiver); });
+    std::stable_sort(batch.begin(), batch.end(), [](const Task& a, const Task& b) {
+      return std::less<>()(a.receiver, b.receiver);
+    });
   } else if (order == PoolOrder::Subtree) {
     std::stable_sort(batch.begin(), batch.end(), [](const Task& a, const Task& b) {
       if (a.receiver->face != b.receiver->face) return a.receiver->face < b.receiver->face;

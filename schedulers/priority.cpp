@@ -32,9 +32,10 @@ struct PriorityTasks {
   [[nodiscard]] bool empty() const { return heap.empty(); }
 };
 
-const bool registered = register_scheduler("priority", [](const SchedulerConfig& c, const PluginParams&) {
-  return std::make_unique<CentralPool<PriorityTasks>>(c, "priority");
-});
+const bool registered =
+    register_scheduler("priority", [](const SchedulerConfig& c, const PluginParams&) {
+      return std::make_unique<CentralPool<PriorityTasks>>(c, "priority");
+    });
 
 }  // namespace
 }  // namespace hrad

@@ -34,9 +34,9 @@ struct Task {
   Element* source = nullptr;
   float form_factor = 0;  ///< cached from the link when `evaluated`
   float visibility = 1;
-  float priority = 0;     ///< oracle error estimate (largest first for `priority`)
-  bool evaluated = false; ///< true for links reloaded from the previous iteration
-  std::uint64_t id = 0;   ///< trace id (see core/parallel/trace.h); set by the refinement driver
+  float priority = 0;      ///< oracle error estimate (largest first for `priority`)
+  bool evaluated = false;  ///< true for links reloaded from the previous iteration
+  std::uint64_t id = 0;    ///< trace id (see core/parallel/trace.h); set by the refinement driver
 };
 
 /// How a central pool orders each submitted batch before it enters the pool
@@ -67,11 +67,11 @@ struct SchedulerConfig {
 
 /// Counters a scheduler keeps; summed over workers.
 struct SchedulerCounters {
-  std::uint64_t takes = 0;      ///< take() calls that returned at least one task
+  std::uint64_t takes = 0;  ///< take() calls that returned at least one task
   std::uint64_t empty_takes = 0;
   std::uint64_t submits = 0;
-  std::uint64_t steals = 0;     ///< tasks taken from another worker's queue
-  double lock_wait_s = 0;       ///< time spent waiting for the scheduler's lock(s)
+  std::uint64_t steals = 0;  ///< tasks taken from another worker's queue
+  double lock_wait_s = 0;    ///< time spent waiting for the scheduler's lock(s)
 };
 
 class IScheduler {
@@ -90,8 +90,8 @@ class IScheduler {
   /// submit(worker, tasks), then take(worker, out) (take_own when `own_only`): the
   /// driver's visit to the pool between two blocks. The result is the same as the two
   /// calls; a scheduler under one lock overrides it to take the lock once (`blocked`).
-  virtual std::size_t submit_and_take(int worker, std::span<const Task> tasks,
-                                      std::span<Task> out, bool own_only) {
+  virtual std::size_t submit_and_take(int worker, std::span<const Task> tasks, std::span<Task> out,
+                                      bool own_only) {
     submit(worker, tasks);
     return own_only ? take_own(worker, out) : take(worker, out);
   }

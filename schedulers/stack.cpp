@@ -22,9 +22,10 @@ struct LifoTasks {
   [[nodiscard]] bool empty() const { return v.empty(); }
 };
 
-const bool registered = register_scheduler("stack", [](const SchedulerConfig& c, const PluginParams&) {
-  return std::make_unique<CentralPool<LifoTasks>>(c, "stack");
-});
+const bool registered =
+    register_scheduler("stack", [](const SchedulerConfig& c, const PluginParams&) {
+      return std::make_unique<CentralPool<LifoTasks>>(c, "stack");
+    });
 
 }  // namespace
 }  // namespace hrad

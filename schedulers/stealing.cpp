@@ -85,7 +85,9 @@ class StealingScheduler final : public IScheduler {
       at(w).rng = 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(w + 1);  // never 0
   }
 
-  std::size_t take(int worker, std::span<Task> out) override { return take_from(worker, out, true); }
+  std::size_t take(int worker, std::span<Task> out) override {
+    return take_from(worker, out, true);
+  }
   std::size_t take_own(int worker, std::span<Task> out) override {
     return take_from(worker, out, false);
   }
@@ -142,9 +144,9 @@ class StealingScheduler final : public IScheduler {
     // The caller acts as w when it already does or no thread does; while a submit from
     // another thread holds w for its push, w's own deque is left to it this time.
     std::thread::id owner = me.owner.load(std::memory_order_acquire);
-    const bool mine = owner == self || (owner == std::thread::id() &&
-                                        me.owner.compare_exchange_strong(
-                                            owner, self, std::memory_order_acq_rel));
+    const bool mine =
+        owner == self || (owner == std::thread::id() &&
+                          me.owner.compare_exchange_strong(owner, self, std::memory_order_acq_rel));
     const std::span<Task> block = out.first(std::min(out.size(), block_size_));
     std::size_t n = mine ? me.deque.pop(block) : 0;
     if (n == 0) n = take_from_inbox(block);
@@ -209,9 +211,9 @@ class StealingScheduler final : public IScheduler {
   std::unique_ptr<Worker[]> workers_;
 
   mutable std::mutex inbox_mutex_;
-  std::vector<Task> inbox_;              // guarded by inbox_mutex_
-  std::uint64_t inbox_submits_ = 0;      // guarded by inbox_mutex_
-  double inbox_wait_s_ = 0;              // guarded by inbox_mutex_
+  std::vector<Task> inbox_;          // guarded by inbox_mutex_
+  std::uint64_t inbox_submits_ = 0;  // guarded by inbox_mutex_
+  double inbox_wait_s_ = 0;          // guarded by inbox_mutex_
   std::atomic<std::size_t> inbox_size_{0};
 };
 

@@ -122,7 +122,7 @@ class WsDeque {
     }
     // b <= t < old_b: (t, old_b) are ours; index t is contended with thieves.
     for (std::int64_t i = old_b - 1; i > t; --i) a->get(i, out[n++]);
-    a->get(t, out[n]);  // kept only if the CAS wins
+    a->get(t, out[n]);                 // kept only if the CAS wins
     const std::int64_t contended = t;  // a failed CAS overwrites t
     if (top_.compare_exchange_strong(t, contended + 1, std::memory_order_seq_cst,
                                      std::memory_order_relaxed))

@@ -55,7 +55,7 @@ TEST(NodeArena, FirstTouchCountsEverythingOnTheOwnersNode) {
   EXPECT_EQ(a1.bytes_per_node(), (std::vector<std::uint64_t>{0, a1.bytes_used()}));
   EXPECT_EQ(a0.bytes_per_node(), (std::vector<std::uint64_t>{0, 0}));
   int local = 0;
-  EXPECT_EQ(a1.node_of(&local), -1);  // not arena memory
+  EXPECT_EQ(a1.node_of(&local), -1);              // not arena memory
   EXPECT_EQ(a1.binding(), BindOutcome::Applied);  // first touch: nothing to bind
 }
 
@@ -139,7 +139,10 @@ TEST(NodeArena, HierarchyElementsComeFromTheSubdividingWorkersArena) {
   // Find a surface element and subdivide it as worker 1, then a child as worker 0.
   Element* surface = nullptr;
   for (Element* e : h.elements())
-    if (!e->is_cluster()) { surface = e; break; }
+    if (!e->is_cluster()) {
+      surface = e;
+      break;
+    }
   ASSERT_NE(surface, nullptr);
   LockPool locks(4, 2);
   const auto kids = h.subdivide(*surface, 1, locks);
@@ -174,7 +177,7 @@ TEST(NodeArena, BindingIsPlannedOnSyntheticAppliedHere) {
   std::string why;
   EXPECT_EQ(a.bind_failures(&why), 0) << why;
   EXPECT_EQ(a.binding(), BindOutcome::Applied);
-  std::memset(p, 1, 3 * NodeArena::kPageBytes);  // touch: the pages now exist
+  std::memset(p, 1, 3 * NodeArena::kPageBytes);                   // touch: the pages now exist
   EXPECT_EQ(topo.node_of_address(p + NodeArena::kPageBytes), 0);  // bound to node 0
 }
 

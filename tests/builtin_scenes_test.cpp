@@ -404,22 +404,19 @@ TEST(BuiltinShapes, BoxesAreClosedAndFaceTheRightWay) {
 
 TEST(BuiltinShapes, RoundSolidsAreClosedWithOutwardFaces) {
   const double r = 0.5, h = 2.0;
-  Scene cyl = shapes_scene([&](Shapes& s, auto m) {
-    s.cylinder(Frame::at(Vec3(1, 1, 1)), r, 0, h, 12, 3, m);
-  });
+  Scene cyl = shapes_scene(
+      [&](Shapes& s, auto m) { s.cylinder(Frame::at(Vec3(1, 1, 1)), r, 0, h, 12, 3, m); });
   EXPECT_EQ(cyl.polygon_count(), 12u * 3 + 24);
   EXPECT_EQ(unpaired_edges(cyl, all_faces(cyl)), 0u);
   // Inscribed 12-gon: area 3 r^2.
   EXPECT_NEAR(signed_volume(cyl, all_faces(cyl)), 3 * r * r * h, 1e-9);
 
-  Scene rod = shapes_scene([&](Shapes& s, auto m) {
-    s.rod(Vec3(0, 0, 0), Vec3(1, 2, 2), r, 12, m);
-  });
+  Scene rod =
+      shapes_scene([&](Shapes& s, auto m) { s.rod(Vec3(0, 0, 0), Vec3(1, 2, 2), r, 12, m); });
   EXPECT_NEAR(signed_volume(rod, all_faces(rod)), 3 * r * r * 3.0, 1e-9);
 
-  Scene sph = shapes_scene([&](Shapes& s, auto m) {
-    s.sphere(Frame{}, Vec3(0.3, 0.2, 0.1), 1.0, 24, 12, m);
-  });
+  Scene sph = shapes_scene(
+      [&](Shapes& s, auto m) { s.sphere(Frame{}, Vec3(0.3, 0.2, 0.1), 1.0, 24, 12, m); });
   EXPECT_EQ(sph.polygon_count(), 24u * 10 + 48);
   EXPECT_TRUE(sph.warnings.empty());
   EXPECT_EQ(unpaired_edges(sph, all_faces(sph)), 0u);
@@ -428,11 +425,9 @@ TEST(BuiltinShapes, RoundSolidsAreClosedWithOutwardFaces) {
   EXPECT_LT(v, 4.0 / 3.0 * std::numbers::pi);
 
   const std::array<Eigen::Vector2d, 5> pentagon = {
-      Eigen::Vector2d(0, 0), Eigen::Vector2d(2, 0), Eigen::Vector2d(2, 1),
-      Eigen::Vector2d(1, 2), Eigen::Vector2d(0, 1)};  // area 3, counter-clockwise
-  Scene pr = shapes_scene([&](Shapes& s, auto m) {
-    s.prism(Frame{}, pentagon, -1, 1, 4, 2, m);
-  });
+      Eigen::Vector2d(0, 0), Eigen::Vector2d(2, 0), Eigen::Vector2d(2, 1), Eigen::Vector2d(1, 2),
+      Eigen::Vector2d(0, 1)};  // area 3, counter-clockwise
+  Scene pr = shapes_scene([&](Shapes& s, auto m) { s.prism(Frame{}, pentagon, -1, 1, 4, 2, m); });
   EXPECT_EQ(unpaired_edges(pr, all_faces(pr)), 0u);
   EXPECT_NEAR(signed_volume(pr, all_faces(pr)), 3.0 * 2, 1e-12);
 

@@ -192,7 +192,8 @@ int colours_seen(const Scene& scene, const Camera& cam) {
   RenderMesh mesh = render_mesh_from_emission(scene);  // every face has its own vertices
   const Vec3 light = Vec3(0.3, 0.8, 0.5).normalized();
   for (const auto& q : mesh.polys) {
-    const std::array<Vec3, 3> p = {mesh.positions[q[0]], mesh.positions[q[1]], mesh.positions[q[2]]};
+    const std::array<Vec3, 3> p = {mesh.positions[q[0]], mesh.positions[q[1]],
+                                   mesh.positions[q[2]]};
     const double shade = 0.2 + std::abs(polygon_normal(p).dot(light));
     for (int c = 0; c < (RenderMesh::is_triangle(q) ? 3 : 4); ++c)
       mesh.radiosity[q[c]] += shade * mesh.reflectance[q[c]];

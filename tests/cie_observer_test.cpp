@@ -16,8 +16,8 @@ TEST(CieObserver, TableGivesThePublishedSpectralLocus) {
   struct Point {
     double nm, x, y;
   };
-  for (const Point p : {Point{450, 0.15664, 0.01771}, Point{550, 0.30160, 0.69231},
-                        Point{600, 0.62704, 0.37249}}) {
+  for (const Point p :
+       {Point{450, 0.15664, 0.01771}, Point{550, 0.30160, 0.69231}, Point{600, 0.62704, 0.37249}}) {
     const Eigen::Vector2d c = xy(cie1931_cmf(p.nm));
     EXPECT_NEAR(c.x(), p.x, 1e-5) << p.nm;
     EXPECT_NEAR(c.y(), p.y, 1e-5) << p.nm;
@@ -117,8 +117,8 @@ TEST(CieObserver, PlanckPeaksAtWiensWavelength) {
   EXPECT_GT(at, planck_exitance(peak + 0.5, 5000));
   // Units (W m^-2 per nm): c1 / (l^5 (exp(c2 / l T) - 1)) at 500 nm, 5000 K.
   const double l = 500e-9, c1 = 3.741771852e-16, c2 = 1.438776877e-2;
-  EXPECT_NEAR(planck_exitance(500, 5000), c1 / (std::pow(l, 5) * std::expm1(c2 / (l * 5000))) *
-                                             1e-9,
+  EXPECT_NEAR(planck_exitance(500, 5000),
+              c1 / (std::pow(l, 5) * std::expm1(c2 / (l * 5000))) * 1e-9,
               1e-8 * planck_exitance(500, 5000));
 }
 

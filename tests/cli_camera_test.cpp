@@ -29,7 +29,8 @@ class CliCamera : public Cli {
  protected:
   /// Solves quickly into `out` and returns stats.json's "camera".
   nlohmann::json camera_of(const std::string& args, const std::string& out = "run") const {
-    const Result r = hrad("solve " + args + " --iterations 1 --set image_width=32 --quiet --out " + out);
+    const Result r =
+        hrad("solve " + args + " --iterations 1 --set image_width=32 --quiet --out " + out);
     EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
     if (r.status != 0) return nullptr;
     return nlohmann::json::parse(read_text(dir_ / out / "stats.json"))["camera"];
@@ -75,7 +76,8 @@ TEST_F(CliCamera, StatsJsonRecordsTheCameraAndHowItWasChosen) {
   EXPECT_GT(c["automatic"]["rays"].get<int>(), 0);
 
   // The spec recorded gives the same camera again.
-  const nlohmann::json again = camera_of("builtin:cornell --camera " + c["spec"].get<std::string>());
+  const nlohmann::json again =
+      camera_of("builtin:cornell --camera " + c["spec"].get<std::string>());
   for (const char* key : {"eye", "look", "up", "fov", "spec"}) EXPECT_EQ(again[key], c[key]) << key;
 }
 
@@ -112,7 +114,8 @@ TEST_F(CliCamera, BadCamerasAreNamedAndCreateNoFolder) {
   fails("thick.obj --camera eye=5,9,5:look=5,1,5",
         "parallel to the scene's up axis (0,1,0); give up=X,Y,Z");
   write("c.json", R"({"camera": "eye=1,2,3:look=0,0,0:fov=-1"})");
-  fails("thick.obj --config c.json", "c.json: option 'camera' = 'eye=1,2,3:look=0,0,0:fov=-1': fov -1");
+  fails("thick.obj --config c.json",
+        "c.json: option 'camera' = 'eye=1,2,3:look=0,0,0:fov=-1': fov -1");
   write("bad.view", "eye 1 2 3\nlook 4 5\n");
   fails("thick.obj --view bad.view", "hrad: bad.view:2: 'look' needs 3 numbers, got 2");
   fails("thick.obj --view missing.view", "missing.view: cannot open the view file");
@@ -129,8 +132,7 @@ TEST_F(CliCamera, AutomaticCameraSeesInsideAThickWalledRoom) {
   write_thick_box();
   const Result r = hrad("solve thick.obj --iterations 2 --set image_width=80 --quiet --out run");
   ASSERT_EQ(r.status, 0) << r.err;
-  const nlohmann::json c =
-      nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"))["camera"];
+  const nlohmann::json c = nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"))["camera"];
   EXPECT_EQ(c["source"], "automatic");
   EXPECT_EQ(c["automatic"]["view"], "interior");
   for (int axis = 0; axis < 3; ++axis) {

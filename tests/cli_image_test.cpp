@@ -16,8 +16,8 @@ namespace {
 
 using hrad::test::Cli;
 using hrad::test::contains;
-using hrad::test::Result;
 using hrad::test::read_text;
+using hrad::test::Result;
 
 // Every face of the furnace emits E = 1 and reflects nothing, so B = 1 everywhere and
 // every pixel (the camera stands inside the closed room) shows L = B / pi.
@@ -49,14 +49,16 @@ TEST_F(Cli, HdrImageHoldsTheRadianceOfAKnownScene) {
 }
 
 TEST_F(Cli, ExposureStopsScaleTheAutomaticExposure) {
-  ASSERT_EQ(hrad(std::string(kFurnace) + " --set image_width=16 --exposure -1.5 --out a").status, 0);
+  ASSERT_EQ(hrad(std::string(kFurnace) + " --set image_width=16 --exposure -1.5 --out a").status,
+            0);
   const nlohmann::json e = stats(dir_ / "a")["image"]["exposure"];
   EXPECT_EQ(e["stops"], -1.5);
   EXPECT_NEAR(e["applied"].get<double>(), e["automatic"].get<double>() * std::exp2(-1.5), 1e-12);
   EXPECT_EQ(stats(dir_ / "a")["config"]["exposure"], -1.5);
   // The config key does the same.
   write("c.json", R"({"exposure": 2, "shading": "flat"})");
-  ASSERT_EQ(hrad(std::string(kFurnace) + " --set image_width=16 --config c.json --out b").status, 0);
+  ASSERT_EQ(hrad(std::string(kFurnace) + " --set image_width=16 --config c.json --out b").status,
+            0);
   const nlohmann::json b = stats(dir_ / "b")["image"];
   EXPECT_NEAR(b["exposure"]["applied"].get<double>(), 4 * b["exposure"]["automatic"].get<double>(),
               1e-12);
@@ -68,10 +70,8 @@ TEST_F(Cli, BadImageOptionsAreNamedAndCreateNoFolder) {
     const char* args;
     const char* says;
   } cases[] = {
-      {"--shading gouraud", "shading"},
-      {"--exposure 100", "exposure"},
-      {"--exposure nan", "exposure"},
-      {"--set shading=", "shading"},
+      {"--shading gouraud", "shading"}, {"--exposure 100", "exposure"},
+      {"--exposure nan", "exposure"},   {"--set shading=", "shading"},
       {"--hdr out.exr", ".pfm"},
   };
   for (const auto& c : cases) {

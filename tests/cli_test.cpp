@@ -7,9 +7,9 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdlib>
@@ -24,8 +24,8 @@ namespace fs = std::filesystem;
 
 using hrad::test::Cli;
 using hrad::test::contains;
-using hrad::test::Result;
 using hrad::test::read_text;
+using hrad::test::Result;
 
 TEST_F(Cli, HelpListsEverySubcommand) {
   const Result r = hrad("--help");
@@ -38,10 +38,10 @@ TEST_F(Cli, SolveHelpMentionsEveryOption) {
   const Result r = hrad("solve --help");
   EXPECT_EQ(r.status, 0) << r.err;
   for (const char* opt :
-       {"--scheduler", "--block-size", "--threads", "--oracle", "--eps", "--min-area",
-        "--iterations", "--pin", "--placement", "--probes", "--image", "--out", "--seed",
-        "--config", "--set", "--quiet", "--camera", "--view", "--shading", "--exposure",
-        "--hdr", "SCENE"})
+       {"--scheduler",  "--block-size", "--threads",   "--oracle", "--eps",    "--min-area",
+        "--iterations", "--pin",        "--placement", "--probes", "--image",  "--out",
+        "--seed",       "--config",     "--set",       "--quiet",  "--camera", "--view",
+        "--shading",    "--exposure",   "--hdr",       "SCENE"})
     EXPECT_TRUE(contains(r.out, opt)) << opt << "\n" << r.out;
   EXPECT_TRUE(contains(r.out, "default 4"));  // --iterations shows its default
 }
@@ -126,9 +126,8 @@ TEST_F(Cli, SolveWritesStatsMeshAndImage) {
   EXPECT_GE(j["scene"]["emitters"].get<int>(), 1);
   ASSERT_EQ(j["iterations"].size(), 1u);
   for (const char* key : {"refine_wall_s", "refine_cpu_s", "propagate_wall_s", "links_created",
-                          "links", "elements", "bytes", "peak_rss_bytes", "tasks",
-                          "scheduler_ops", "lock_wait_s", "idle_s", "rays_cast", "rays_skipped",
-                          "gather_sweeps"})
+                          "links", "elements", "bytes", "peak_rss_bytes", "tasks", "scheduler_ops",
+                          "lock_wait_s", "idle_s", "rays_cast", "rays_skipped", "gather_sweeps"})
     EXPECT_TRUE(j["iterations"][0].contains(key)) << key;
   for (const char* key : {"wall_s", "refine_wall_s", "refine_cpu_s", "links", "elements",
                           "rays_cast", "rays_skipped", "peak_rss_bytes"})
@@ -154,10 +153,10 @@ TEST_F(Cli, PrecedenceConfigFlagsSet) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;  // --quiet: no summary
   const nlohmann::json j = nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"));
-  EXPECT_EQ(j["config"]["iterations"], 1);     // config beats the default
+  EXPECT_EQ(j["config"]["iterations"], 1);  // config beats the default
   EXPECT_EQ(j["config"]["seed"], 9);
-  EXPECT_EQ(j["config"]["eps"], 0.25);         // flag beats config
-  EXPECT_EQ(j["config"]["min_area"], 0.02);    // --set beats flag
+  EXPECT_EQ(j["config"]["eps"], 0.25);       // flag beats config
+  EXPECT_EQ(j["config"]["min_area"], 0.02);  // --set beats flag
   EXPECT_EQ(j["config_file"], "c.json");
   EXPECT_EQ(j["iterations"].size(), 1u);
 }

@@ -1,6 +1,6 @@
 // How worker ranks on one host split its CPUs (experiments/harness/core_share.h).
-#include "core/parallel/pin_plan.h"
 #include "experiments/harness/core_share.h"
+#include "core/parallel/pin_plan.h"
 
 #include <gtest/gtest.h>
 

@@ -350,9 +350,9 @@ Scene facing_quads(bool blocker_inside) {
   b.add_polygon(std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, m, {"t", 1});
   b.add_polygon(std::vector<Vec3>{{0, 0, 2}, {0, 1, 2}, {1, 1, 2}, {1, 0, 2}}, m, {"t", 2});
   const double x = blocker_inside ? 0.25 : 3.0;
-  b.add_polygon(std::vector<Vec3>{{x, 0.25, 1}, {x + 0.5, 0.25, 1}, {x + 0.5, 0.75, 1},
-                                  {x, 0.75, 1}},
-                m, {"t", 3});
+  b.add_polygon(
+      std::vector<Vec3>{{x, 0.25, 1}, {x + 0.5, 0.25, 1}, {x + 0.5, 0.75, 1}, {x, 0.75, 1}}, m,
+      {"t", 3});
   return b.finish("t");
 }
 

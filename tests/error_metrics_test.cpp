@@ -1,15 +1,15 @@
 // Tests of the error metrics (core/reference/error_metrics.h) and of reading solution.ply back
 // (core/scene/ply_reader.h), on hand-made inputs with known answers; and of the `reference`
 // and `compare` commands end to end.
+#include "core/reference/error_metrics.h"
 #include "core/base/input_error.h"
 #include "core/output/ply_writer.h"
-#include "core/reference/error_metrics.h"
 #include "core/scene/ply_reader.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -57,8 +57,8 @@ TEST(ErrorMetrics, ProbeRelativeErrorWithFloor) {
   EXPECT_NEAR(c.bias, (0.1 / 3 - 0.1 / 3 + 1.0 / 3) / 3, 1e-9);
   EXPECT_EQ(c.low, 1u);
   // An explicit floor of 0.01 turns the dark probe's error into 0.001 / 0.01.
-  const ProbeComparison f = compare_probes(parse_probe_table(kResult, "a.csv"),
-                                           parse_probe_table(kRef, "r.csv"), 0.01);
+  const ProbeComparison f =
+      compare_probes(parse_probe_table(kResult, "a.csv"), parse_probe_table(kRef, "r.csv"), 0.01);
   EXPECT_NEAR(f.probes[2].rel_error, 0.1, 1e-12);
   // Against itself: zero.
   const ProbeComparison z =
@@ -132,7 +132,8 @@ RenderMesh square_mesh(int n, double (*f)(double)) {
     }
   const auto v = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) m.polys.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)});
+    for (int i = 0; i < n; ++i)
+      m.polys.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)});
   return m;
 }
 
@@ -141,7 +142,8 @@ double half(double) { return 0.5; }
 
 TEST(ErrorMetrics, SurfaceL1AndL2) {
   // B = x interpolated bilinearly is exact on any grid: no error.
-  const SurfaceComparison same = compare_surfaces(square_mesh(1, linear), square_mesh(8, linear), 20000);
+  const SurfaceComparison same =
+      compare_surfaces(square_mesh(1, linear), square_mesh(8, linear), 20000);
   EXPECT_EQ(same.unmatched, 0u);
   EXPECT_GE(same.samples, 20000u);
   EXPECT_NEAR(same.l1_all, 0, 1e-5);
@@ -221,7 +223,9 @@ TEST_F(ReferenceCli, ReferenceThenCompare) {
   EXPECT_EQ(c["probes"]["within_2se"], 2);
 
   // Random surface probes: written to probes.txt, which `solve --probes` reads back.
-  ASSERT_EQ(hrad("reference builtin:furnace --random-probes 5 --seed 3 --out rnd --rel-error 0.05 --quiet"), 0);
+  ASSERT_EQ(hrad("reference builtin:furnace --random-probes 5 --seed 3 --out rnd --rel-error 0.05 "
+                 "--quiet"),
+            0);
   const ProbeTable rnd = read_probe_table(dir_ / "rnd");
   ASSERT_EQ(rnd.probes.size(), 5u);
   for (const Rgb& e : rnd.irradiance) EXPECT_NEAR(e[0], 2.0, 0.2);

@@ -97,15 +97,14 @@ TEST(ExperimentAccuracy, BadBlocksAreNamedErrors) {
   e = error_of(head + R"({"probes": {"builtin:cornell": 1}}})");
   EXPECT_NE(e.find("'accuracy.probes.builtin:cornell' must be a file name"), std::string::npos)
       << e;
-  for (const char* bad : {R"({"probes": "p", "reference_rel_error": 0})",
-                          R"({"probes": "p", "reference_rel_error": "1"})",
-                          R"({"probes": "p", "floor": -1})"}) {
+  for (const char* bad :
+       {R"({"probes": "p", "reference_rel_error": 0})",
+        R"({"probes": "p", "reference_rel_error": "1"})", R"({"probes": "p", "floor": -1})"}) {
     e = error_of(head + bad + "}");
     EXPECT_NE(e.find("must be a number"), std::string::npos) << bad << ": " << e;
   }
   e = error_of(head + R"({"probes": "p", "reference_max_samples": 0.5}})");
-  EXPECT_NE(e.find("'accuracy.reference_max_samples' must be an integer"), std::string::npos)
-      << e;
+  EXPECT_NE(e.find("'accuracy.reference_max_samples' must be an integer"), std::string::npos) << e;
   // Every scene, the quick ones included, needs a probe file.
   e = error_of(R"({"name": "a", "scenes": ["builtin:cornell", "builtin:lab"],
                    "accuracy": {"probes": {"builtin:cornell": "c.txt"}}})");
@@ -197,10 +196,10 @@ TEST(ExperimentAccuracy, RunsGetProbeErrorsAndTheReferenceIsCached) {
     for (std::size_t i = 0; i < table.probes.size(); ++i) {
       const Probe& p = table.probes[i];
       const Rgb e = 2 * table.irradiance[i];
-      doubled += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
-                             "1,1,1,64\n",
-                             p.p.x(), p.p.y(), p.p.z(), p.n.x(), p.n.y(), p.n.z(), e[0], e[1],
-                             e[2]);
+      doubled += fmt::format(
+          "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
+          "1,1,1,64\n",
+          p.p.x(), p.p.y(), p.p.z(), p.n.x(), p.n.y(), p.n.z(), e[0], e[1], e[2]);
     }
     std::ofstream(ref) << doubled;
   }

@@ -14,9 +14,7 @@ namespace {
 
 using ojson = nlohmann::ordered_json;
 
-ojson minimal() {
-  return ojson::parse(R"({"name": "t", "scenes": ["builtin:cornell"]})");
-}
+ojson minimal() { return ojson::parse(R"({"name": "t", "scenes": ["builtin:cornell"]})"); }
 
 ojson full() {
   return ojson::parse(R"({
@@ -112,8 +110,7 @@ TEST(ExperimentConfig, EmptyListsAreErrors) {
   EXPECT_NE(error_of(j).find("'scenes' is empty"), std::string::npos) << error_of(j);
   j = minimal();
   j["sweep"] = ojson::parse(R"({"threads": []})");
-  EXPECT_NE(error_of(j).find("'sweep.threads' is an empty list"), std::string::npos)
-      << error_of(j);
+  EXPECT_NE(error_of(j).find("'sweep.threads' is an empty list"), std::string::npos) << error_of(j);
   j = minimal();
   j["name"] = "";
   EXPECT_NE(error_of(j).find("'name'"), std::string::npos);
@@ -156,11 +153,11 @@ TEST(ExperimentConfig, RangesNamesAndConflicts) {
 TEST(ExperimentConfig, QuickOverrides) {
   const ExperimentConfig q = apply_quick(parse_experiment_config(full(), "cfg.json"));
   EXPECT_EQ(q.scenes, std::vector<std::string>{"builtin:cornell"});
-  EXPECT_EQ(base_options(q).eps, 0.1);        // merged over settings
+  EXPECT_EQ(base_options(q).eps, 0.1);       // merged over settings
   EXPECT_EQ(base_options(q).iterations, 2);  // kept
   ASSERT_EQ(q.sweep.size(), 2u);
-  EXPECT_EQ(q.sweep[0].values.size(), 2u);   // threads narrowed
-  EXPECT_EQ(q.sweep[1].values.size(), 2u);   // scheduler unchanged
+  EXPECT_EQ(q.sweep[0].values.size(), 2u);  // threads narrowed
+  EXPECT_EQ(q.sweep[1].values.size(), 2u);  // scheduler unchanged
   EXPECT_EQ(q.repetitions, 1);
   // Without a quick part, apply_quick changes nothing.
   const ExperimentConfig m = parse_experiment_config(minimal(), "cfg.json");
@@ -233,7 +230,8 @@ TEST(ExperimentConfig, FilesWithCommentsAndErrors) {
 
 // Every shipped configuration parses, with and without --quick.
 TEST(ExperimentConfig, ShippedConfigsParse) {
-  const std::filesystem::path configs = std::filesystem::path(HRAD_SOURCE_DIR) / "experiments/configs";
+  const std::filesystem::path configs =
+      std::filesystem::path(HRAD_SOURCE_DIR) / "experiments/configs";
   int n = 0;
   for (const auto& entry : std::filesystem::directory_iterator(configs)) {
     if (entry.path().extension() != ".json") continue;

@@ -49,7 +49,8 @@ TEST(ExperimentCsv, RoundTripAndTruncation) {
   parsed = parse_csv(text.substr(0, text.find("break")));
   EXPECT_TRUE(parsed.truncated);
   EXPECT_EQ(parsed.rows.size(), 1u);
-  EXPECT_EQ(parse_csv("a,b\r\nc,d\r\n").rows, (std::vector<std::vector<std::string>>{{"a", "b"}, {"c", "d"}}));
+  EXPECT_EQ(parse_csv("a,b\r\nc,d\r\n").rows,
+            (std::vector<std::vector<std::string>>{{"a", "b"}, {"c", "d"}}));
 }
 
 // A synthetic row of the given columns for run (point, repetition).
@@ -63,7 +64,8 @@ Row row_for(const std::vector<std::string>& columns, int point, int rep, const s
 RunRows rows_for(int point, int rep, int iterations) {
   RunRows r;
   r.run = row_for(run_columns(), point, rep, "r");
-  for (int i = 0; i < iterations; ++i) r.iterations.push_back(row_for(iteration_columns(), point, rep, "i"));
+  for (int i = 0; i < iterations; ++i)
+    r.iterations.push_back(row_for(iteration_columns(), point, rep, "i"));
   return r;
 }
 
@@ -141,7 +143,8 @@ TEST(ExperimentResultFiles, OutOfOrderRunsAreSortedIntoRunOrder) {
   const std::size_t p = column_index(run_columns(), "point");
   const std::size_t r = column_index(run_columns(), "repetition");
   std::vector<std::pair<std::string, std::string>> ids;
-  for (std::size_t i = 1; i < runs.rows.size(); ++i) ids.emplace_back(runs.rows[i][p], runs.rows[i][r]);
+  for (std::size_t i = 1; i < runs.rows.size(); ++i)
+    ids.emplace_back(runs.rows[i][p], runs.rows[i][r]);
   const std::vector<std::pair<std::string, std::string>> order = {
       {"0", "0"}, {"0", "1"}, {"1", "0"}, {"2", "0"}};
   EXPECT_EQ(ids, order);

@@ -2,8 +2,8 @@
 // run lands in runs.csv and iterations.csv, the link counts do not depend on the
 // scheduler or thread count, the manifest records how the folder was made, and an
 // interrupted experiment resumes without redoing finished runs. Also the CLI.
-#include "experiments/harness/csv.h"
 #include "experiments/harness/experiment_runner.h"
+#include "experiments/harness/csv.h"
 #include "experiments/harness/result_files.h"
 #include "experiments/harness/run_rows.h"
 #include "tests/experiment_test_util.h"
@@ -113,7 +113,8 @@ TEST(ExperimentRunner, ResumesAnInterruptedRun) {
   ASSERT_EQ(runs.size(), 8u);
   const auto& rc = run_columns();
   std::set<std::pair<std::string, std::string>> ids;
-  for (const Row& r : runs) ids.insert({r[column_index(rc, "point")], r[column_index(rc, "repetition")]});
+  for (const Row& r : runs)
+    ids.insert({r[column_index(rc, "point")], r[column_index(rc, "repetition")]});
   EXPECT_EQ(ids.size(), 8u);
   // The first three rows are the original ones, untouched.
   for (int i = 1; i < 4; ++i) EXPECT_EQ(runs[i - 1], t.rows[i]);
@@ -188,10 +189,13 @@ int run_hrad(const std::string& args, std::string& output) {
 TEST(ExperimentCli, BadConfigIsAnErrorAndCreatesNothing) {
   Folder d("hrad_cli_experiment");
   fs::create_directories(d.path);
-  std::ofstream(d.path / "bad.json") << R"({"name": "x", "scenes": ["builtin:cornell"], "sweep": {"thread": [1]}})";
+  std::ofstream(d.path / "bad.json")
+      << R"({"name": "x", "scenes": ["builtin:cornell"], "sweep": {"thread": [1]}})";
   std::string out;
   EXPECT_EQ(run_hrad("experiment " + (d.path / "bad.json").string() + " --out " +
-                         (d.path / "res").string(), out), 1);
+                         (d.path / "res").string(),
+                     out),
+            1);
   EXPECT_NE(out.find("unknown option key 'thread'"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(d.path / "res"));
 }
@@ -204,11 +208,15 @@ TEST(ExperimentCli, QuickRunWithSetAndDryRun) {
     "sweep": {"threads": [1, 2, 3]}, "repetitions": 3,
     "quick": {"sweep": {"threads": [1, 2]}, "repetitions": 1}})";
   std::string out;
-  ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() + " --quick --dry-run", out), 0) << out;
+  ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() + " --quick --dry-run", out), 0)
+      << out;
   EXPECT_NE(out.find("2 points x 1 repetitions = 2 runs"), std::string::npos) << out;
   ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
                          " --quick --set sweep.threads=1 --set repetitions=2 --no-plot --out " +
-                         (d.path / "res").string(), out), 0) << out;
+                         (d.path / "res").string(),
+                     out),
+            0)
+      << out;
   const auto runs = data_rows(d.path / "res" / "runs.csv");
   EXPECT_EQ(runs.size(), 2u);
   const auto m = nlohmann::json::parse(read_text(d.path / "res" / "manifest.json"));
@@ -218,11 +226,16 @@ TEST(ExperimentCli, QuickRunWithSetAndDryRun) {
   // Same command again: the folder is complete, nothing reruns.
   ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
                          " --quick --set sweep.threads=1 --set repetitions=2 --no-plot --out " +
-                         (d.path / "res").string(), out), 0) << out;
+                         (d.path / "res").string(),
+                     out),
+            0)
+      << out;
   EXPECT_NE(out.find("(0 run now, 2 already done)"), std::string::npos) << out;
   // --resume of a folder made with other --set values is refused.
   EXPECT_EQ(run_hrad("experiment " + (d.path / "c.json").string() + " --quick --no-plot --resume " +
-                         (d.path / "res").string(), out), 1);
+                         (d.path / "res").string(),
+                     out),
+            1);
   EXPECT_NE(out.find("different configuration"), std::string::npos) << out;
 }
 

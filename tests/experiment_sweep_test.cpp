@@ -8,9 +8,9 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <set>
-#include <cmath>
 #include <algorithm>
+#include <cmath>
+#include <set>
 
 namespace hrad::experiment {
 namespace {
@@ -104,12 +104,12 @@ TEST(ExperimentRows, ColumnsAndValues) {
   EXPECT_EQ(at("threads"), "2");
   EXPECT_EQ(at("eps"), option_value_string(p[3].options, "eps"));
   EXPECT_EQ(at("refine_cpu_s"), "6");
-  EXPECT_EQ(at("propagate_wall_s"), "0.5");       // summed
-  EXPECT_EQ(at("tasks"), "100");                  // summed
-  EXPECT_EQ(at("lock_wait_scheduler_s"), "1");    // summed
-  EXPECT_EQ(at("lock_wait_total_s"), "1.75");     // all classes, all iterations
-  EXPECT_EQ(at("bytes_total"), "8000");           // at the end
-  EXPECT_EQ(at("peak_parallelism"), "2");         // max
+  EXPECT_EQ(at("propagate_wall_s"), "0.5");     // summed
+  EXPECT_EQ(at("tasks"), "100");                // summed
+  EXPECT_EQ(at("lock_wait_scheduler_s"), "1");  // summed
+  EXPECT_EQ(at("lock_wait_total_s"), "1.75");   // all classes, all iterations
+  EXPECT_EQ(at("bytes_total"), "8000");         // at the end
+  EXPECT_EQ(at("peak_parallelism"), "2");       // max
   EXPECT_EQ(at("steals"), "6");
   EXPECT_EQ(at("iterations_run"), "2");
   ASSERT_EQ(r.iterations.size(), 2u);
@@ -144,8 +144,12 @@ TEST(ExperimentRows, EveryIterationScalarOfStatsJsonIsACsvColumn) {
   const auto& ic = iteration_columns();
   const Row& row = r.iterations[1];
   // The parts of an iteration that are not scalars, written by stats_json.cpp alone.
-  const std::set<std::string> whole = {"bytes", "lock_wait_s", "refiners", "bytes_per_node",
-                                       "element_bytes_per_node", "link_bytes_per_node",
+  const std::set<std::string> whole = {"bytes",
+                                       "lock_wait_s",
+                                       "refiners",
+                                       "bytes_per_node",
+                                       "element_bytes_per_node",
+                                       "link_bytes_per_node",
                                        "placement_check"};
   int scalars = 0;
   const nlohmann::json flat = j.flatten();
@@ -156,8 +160,9 @@ TEST(ExperimentRows, EveryIterationScalarOfStatsJsonIsACsvColumn) {
     std::replace(column.begin(), column.end(), '/', '_');
     const std::size_t at = column_index(ic, column);  // throws if there is none
     const nlohmann::json& v = item.value();
-    const std::string expected =
-        v.is_null() ? "" : v.is_number_float() ? fmt::format("{}", v.get<double>()) : v.dump();
+    const std::string expected = v.is_null()           ? ""
+                                 : v.is_number_float() ? fmt::format("{}", v.get<double>())
+                                                       : v.dump();
     EXPECT_EQ(row[at], expected) << column;
     ++scalars;
   }
@@ -183,8 +188,9 @@ TEST(ExperimentRows, EveryTotalOfStatsJsonIsARunsCsvColumn) {
   const auto& rc = run_columns();
   int totals = 0;
   for (const auto& [key, v] : j.items()) {
-    const std::string expected =
-        v.is_null() ? "" : v.is_number_float() ? fmt::format("{}", v.get<double>()) : v.dump();
+    const std::string expected = v.is_null()           ? ""
+                                 : v.is_number_float() ? fmt::format("{}", v.get<double>())
+                                                       : v.dump();
     EXPECT_EQ(r.run[column_index(rc, key)], expected) << key;
     ++totals;
   }

@@ -103,7 +103,8 @@ TEST(Transport, VisibilityDependsOnlyOnTheTwoElements) {
   const auto els = h.elements();
   std::uint64_t n1 = 0, n2 = 0;
   std::vector<double> first, second;
-  for (std::size_t i = 1; i < els.size(); ++i) first.push_back(t.visibility(*els[i], *els[i - 1], n1));
+  for (std::size_t i = 1; i < els.size(); ++i)
+    first.push_back(t.visibility(*els[i], *els[i - 1], n1));
   for (std::size_t i = els.size() - 1; i >= 1; --i)
     second.insert(second.begin(), t.visibility(*els[i], *els[i - 1], n2));
   EXPECT_EQ(first, second);

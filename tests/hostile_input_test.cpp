@@ -84,8 +84,9 @@ std::string box_obj(const std::string& scale, const std::string& mtl = "box.mtl"
       if (c != ' ') line += std::string(" ") + c + scale;
     s += line + "\n";
   }
-  return s + "usemtl wall\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\n"
-             "usemtl light\nf 1 4 8 5\n";
+  return s +
+         "usemtl wall\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\n"
+         "usemtl light\nf 1 4 8 5\n";
 }
 
 // Ke 1e40 solved with exit 0 and wrote inf into solution.ply and a red image.
@@ -111,7 +112,8 @@ TEST_F(HostileInput, TotalReflectanceIsReported) {
 // first run's probes as the second's.
 TEST_F(HostileInput, StaleResultFilesAreNeitherKeptNorCompared) {
   write("probes.txt", "1 1 1 0 1 0\n2 0.001 2 0 1 0\n");
-  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --probes probes.txt --out d --quiet").status, 0);
+  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --probes probes.txt --out d --quiet").status,
+            0);
   fs::copy_file(dir_ / "d" / "probes.csv", dir_ / "ref.csv");
   ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --eps 1e-2 --out d --quiet").status, 0);
   EXPECT_FALSE(fs::exists(dir_ / "d" / "probes.csv"));
@@ -260,8 +262,9 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
   EXPECT_TRUE(contains(r.out, "E mean (res)") && contains(r.out, "rel.err max")) << r.out;
 
   // Every face turned away from every other made 0 links, silently.
-  write("away.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 0 1 1\nv 1 1 1\nv 1 0 1\n"
-                    "mtllib away.mtl\nusemtl l\nf 1 4 3 2\nf 5 8 7 6\n");
+  write("away.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 0 1 1\nv 1 1 1\nv 1 0 1\n"
+        "mtllib away.mtl\nusemtl l\nf 1 4 3 2\nf 5 8 7 6\n");
   write("away.mtl", "newmtl l\nKd 0.5 0.5 0.5\nKe 1 1 1\n");
   r = hrad("solve away.obj --iterations 1 --out away --quiet");
   EXPECT_EQ(r.status, 0) << r.err;
@@ -285,7 +288,8 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
   // A relative --image is where hrad runs, not in the output folder.
   r = hrad("solve builtin:cornell --iterations 1 --image pics/y.png --out run");
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_TRUE(contains(r.out, "Results in run: stats.json, solution.ply; image pics/y.png")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Results in run: stats.json, solution.ply; image pics/y.png"))
+      << r.out;
   EXPECT_TRUE(fs::exists(dir_ / "pics" / "y.png"));
 }
 

@@ -2,8 +2,8 @@
 // order, blocks grow geometrically and never move while stored, compaction leaves one
 // full block, the memory is counted on the node of the refiner that stored (and
 // compacted) the links, and release_links() hands it out again.
-#include "core/hierarchy/hierarchy.h"
 #include "core/hierarchy/link_list.h"
+#include "core/hierarchy/hierarchy.h"
 #include "core/parallel/node_arena.h"
 #include "core/scene/builtin_scenes.h"
 
@@ -68,7 +68,8 @@ TEST(LinkList, OneAtATimeGrowsGeometricallyUpToTheCap) {
   // Capacities 1, 1, 2, 4, ..., 128, then blocks of kMaxBlockLinks = 256.
   std::size_t expect_blocks = 0;
   std::size_t capacity = 0;
-  for (std::size_t c = 1; capacity < n; c = std::min<std::size_t>(std::max<std::size_t>(capacity, 1), LinkList::kMaxBlockLinks)) {
+  for (std::size_t c = 1; capacity < n;
+       c = std::min<std::size_t>(std::max<std::size_t>(capacity, 1), LinkList::kMaxBlockLinks)) {
     capacity += c;
     ++expect_blocks;
   }
@@ -170,7 +171,9 @@ TEST(LinkList, HierarchyCountsLinksOnTheStoringWorkersNode) {
     EXPECT_EQ(b[0] + b[1], listed());
     EXPECT_EQ(h.link_bytes(), listed());
     EXPECT_EQ(h.link_staging_arena(1).bytes_used(), 3 * els[1]->links.bytes());
-    if (how == MemBind::FirstTouch) EXPECT_EQ(b[1], 3 * els[1]->links.bytes());
+    if (how == MemBind::FirstTouch) {
+      EXPECT_EQ(b[1], 3 * els[1]->links.bytes());
+    }
     // Compaction as a refinement stage ends: each list by the worker that started it.
     for (std::size_t e = 0; e < 3; ++e) h.compact_links(*els[e], 1);
     h.compact_links(*els.back(), 0);
@@ -227,7 +230,8 @@ TEST(LinkList, ConcurrentAppendsUnderReceiverLocksLoseNothing) {
   std::size_t bytes = 0;
   for (const LinkList& list : lists) {
     bytes += list.bytes();
-    for (const Link& l : list) ++seen[static_cast<std::size_t>(l.form_factor) * kPerWorker + index_of(l)];
+    for (const Link& l : list)
+      ++seen[static_cast<std::size_t>(l.form_factor) * kPerWorker + index_of(l)];
   }
   for (std::size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i], 1) << i;
   EXPECT_EQ(bytes, arenas[0].bytes_used() + arenas[1].bytes_used());

@@ -2,8 +2,8 @@
 // cct), cmix, gamut mapping, and the ies rule. Expected RGB values were computed by
 // hand (exact rational arithmetic for the Rec. 709 / white E matrix, trapezoid sums of
 // the CIE 5 nm table), independently of hrad's code.
-#include "core/base/input_error.h"
 #include "core/scene/mgf/mgf_color.h"
+#include "core/base/input_error.h"
 #include "core/scene/mgf/mgf_reader.h"
 
 #include <gtest/gtest.h>
@@ -36,8 +36,7 @@ bool has_warning(const Scene& s, const std::string& fragment) {
   return false;
 }
 
-void expect_rgb(const Rgb& got, double r, double g, double b, double tol,
-                const std::string& what) {
+void expect_rgb(const Rgb& got, double r, double g, double b, double tol, const std::string& what) {
   EXPECT_NEAR(got[0], r, tol) << what;
   EXPECT_NEAR(got[1], g, tol) << what;
   EXPECT_NEAR(got[2], b, tol) << what;
@@ -151,19 +150,19 @@ TEST(MgfGamut, DesaturatesTowardsEqualLuminanceGrey) {
 TEST(MgfGamut, OneWarningCountsTheMappedColours) {
   // Two mapped reflectances, one mapped emission, one in-gamut colour, one material
   // reused: "3 colour(s) ... (2 reflectance, 1 emission)".
-  const Scene s = parse_mgf(
-      "m a =\n c\n cxy 0.4 0.15\n rd 0.3\n" + kTri +
-          "m b =\n c\n cxy 0.64 0.33\n rd 0.5\n c\n cxy 0 0.2\n ed 100\n" + kTri +
-          "m d =\n c\n cxy 0.4 0.35\n rd 0.2\n" + kTri + "m a\n" + kTri,
-      "t.mgf");
+  const Scene s =
+      parse_mgf("m a =\n c\n cxy 0.4 0.15\n rd 0.3\n" + kTri +
+                    "m b =\n c\n cxy 0.64 0.33\n rd 0.5\n c\n cxy 0 0.2\n ed 100\n" + kTri +
+                    "m d =\n c\n cxy 0.4 0.35\n rd 0.2\n" + kTri + "m a\n" + kTri,
+                "t.mgf");
   int count = 0;
   for (const auto& w : s.warnings) count += w.find("outside the RGB gamut") != std::string::npos;
   EXPECT_EQ(count, 1);
   EXPECT_TRUE(has_warning(s, "3 colour(s) outside the RGB gamut (2 reflectance, 1 emission)"));
   // In-gamut colours are converted exactly as before (no mapping, no warning).
   const Scene in = scene_of("cxy 0.4 0.35", "rd 0.2");
-  expect_rgb(in.materials[0].reflectance, 0.2 * 1.502463054, 0.2 * 0.841464102,
-             0.2 * 0.67638484, 1e-8, "in gamut");
+  expect_rgb(in.materials[0].reflectance, 0.2 * 1.502463054, 0.2 * 0.841464102, 0.2 * 0.67638484,
+             1e-8, "in gamut");
   EXPECT_FALSE(has_warning(in, "colour"));
 }
 
@@ -184,8 +183,8 @@ TEST(MgfGamut, DirectMappingMatchesTheRawConversionInsideTheGamut) {
 // ---- cspec and cct ----------------------------------------------------------
 
 TEST(MgfSpectra, FlatSpectrumIsExactlyGrey) {
-  for (const char* spec : {"cspec 380 780 1 1", "cspec 360 830 5 5 5 5",
-                           "cspec 300 900 2 2 2 2 2 2 2"}) {
+  for (const char* spec :
+       {"cspec 380 780 1 1", "cspec 360 830 5 5 5 5", "cspec 300 900 2 2 2 2 2 2 2"}) {
     const Scene s = scene_of(spec, "rd 0.37");
     const Rgb& r = s.materials[0].reflectance;
     EXPECT_EQ(r[0], 0.37) << spec;
@@ -280,7 +279,6 @@ TEST(MgfIes, GoniometricLuminairesAreRejected) {
                "goniometric (IES LM-63) luminaires are not supported");
   expect_error("ies\n", 1, "goniometric");
 }
-
 
 // ---- a file with every colour entity ------------------------------------------
 

@@ -9,10 +9,10 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
-#include <set>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <set>
 #include <string>
 
 namespace hrad {
@@ -243,10 +243,9 @@ TEST(MgfPrimitives, ClosedShapesAreWatertight) {
   for (int n : {3, 7, 16, 33}) {
     for (const std::string xf : {"", "xf -rz 30 -s 2.5 -mx -t 1 2 3\n"}) {
       const std::string end = xf.empty() ? "" : "xf\n";
-      for (const std::string shape :
-           {std::string("sph c 1.5\n"), std::string("sph c -1.5\n"),
-            std::string("torus c 0.5 2\n"), std::string("torus c 0 2\n"),
-            std::string("torus c -0.5 -2\n")}) {
+      for (const std::string& shape :
+           {std::string("sph c 1.5\n"), std::string("sph c -1.5\n"), std::string("torus c 0.5 2\n"),
+            std::string("torus c 0 2\n"), std::string("torus c -0.5 -2\n")}) {
         const Scene s = parse(prelude("1 1 1", "0.3 0.4 1") + xf + shape + end, n);
         const EdgeCount c = count_edges(s);
         EXPECT_EQ(c.unmatched, 0u) << shape << " n " << n << " " << xf;
@@ -310,14 +309,14 @@ TEST(MgfSegments, RuleFollowsTheShapeAgainstTheScene) {
   EXPECT_EQ(s.faces.size(), static_cast<std::size_t>(big * big / 2 + 16 * 8));
   EXPECT_NEAR(s.bounds().diagonal(), diagonal, 1e-12);
   // Scale-invariant: the same scene 1000 times larger (and rotated) is cut the same.
-  const Scene scaled =
-      parse_mgf("xf -s 1000 -rx 30\n" + two + "xf\n", "t.mgf", automatic);
+  const Scene scaled = parse_mgf("xf -s 1000 -rx 30\n" + two + "xf\n", "t.mgf", automatic);
   EXPECT_EQ(scaled.faces.size(), s.faces.size());
   // A fixed count overrides the rule for every shape.
   EXPECT_EQ(parse(two, 16).faces.size(), 2u * 16 * 8);
   // Polygons keep their file order around the deferred shapes.
-  const Scene order = parse_mgf(prelude() + "v a =\n p 5 5 5\nv b =\n p 6 5 5\nv d =\n p 5 6 5\n"
-                                "f a b d\nsph c 1\nf d b a\n",
+  const Scene order = parse_mgf(prelude() +
+                                    "v a =\n p 5 5 5\nv b =\n p 6 5 5\nv d =\n p 5 6 5\n"
+                                    "f a b d\nsph c 1\nf d b a\n",
                                 "t.mgf", automatic);
   EXPECT_NEAR(order.face_normal(0).z(), 1.0, 1e-12);
   EXPECT_NEAR(order.face_normal(order.faces.size() - 1).z(), -1.0, 1e-12);
@@ -412,8 +411,9 @@ TEST(MgfTransform, TranslateScaleRotateMirror) {
   s = parse(prelude("5 0 0") + "xf -my\nsph c 1\nxf\n");
   expect_facing(s, Vec3(5, 0, 0), true);
   // Vertices are transformed when used, not when defined.
-  s = parse("m g =\n rd 0.5\nxf -t 0 0 7\nv a =\n p 0 0 0\nv b =\n p 1 0 0\nv d =\n p 0 1 0\n"
-            "xf\nf a b d\n");
+  s = parse(
+      "m g =\n rd 0.5\nxf -t 0 0 7\nv a =\n p 0 0 0\nv b =\n p 1 0 0\nv d =\n p 0 1 0\n"
+      "xf\nf a b d\n");
   EXPECT_NEAR(s.bounds().hi.z(), 0, 1e-12);
 }
 
@@ -441,16 +441,18 @@ TEST(MgfContexts, RedefinitionTemplatesAndDefaults) {
   EXPECT_EQ(s.materials[0].reflectance[0], 0.5);
   EXPECT_TRUE(has_warning(s, "2 face(s) named no material"));
   // `v b = a` copies a; redefining a after use does not move the first face.
-  s = parse("m g =\n rd 0.5\nv a =\n p 0 0 0\nv b = a\n p 1 0 0\nv d =\n p 0 1 0\nf a b d\n"
-            "v a =\n p 0 0 5\nf a b d\n");
+  s = parse(
+      "m g =\n rd 0.5\nv a =\n p 0 0 0\nv b = a\n p 1 0 0\nv d =\n p 0 1 0\nf a b d\n"
+      "v a =\n p 0 0 5\nf a b d\n");
   ASSERT_EQ(s.faces.size(), 2u);
   EXPECT_NEAR(s.face_vertices(0)[0].z(), 0, 1e-12);
   EXPECT_NEAR(s.face_vertices(1)[0].z(), 5, 1e-12);
   // A material changed after use becomes a second Scene material; reselecting an
   // unchanged one does not.
   // (Four different triangles: a copy of an earlier polygon would be dropped.)
-  s = parse("m g =\n rd 0.5\nm h = g\nv a =\n p 0 0 0\nv b =\n p 1 0 0\nv d =\n p 0 1 0\n"
-            "v e =\n p 1 1 0\nm g\nf a b d\nm h\nf a d b\nm g\nf b e d\n rd 0.25\nf b d e\n");
+  s = parse(
+      "m g =\n rd 0.5\nm h = g\nv a =\n p 0 0 0\nv b =\n p 1 0 0\nv d =\n p 0 1 0\n"
+      "v e =\n p 1 1 0\nm g\nf a b d\nm h\nf a d b\nm g\nf b e d\n rd 0.25\nf b d e\n");
   ASSERT_EQ(s.faces.size(), 4u);
   EXPECT_EQ(s.faces[0].material, s.faces[2].material);
   EXPECT_EQ(s.face_material(1).name, "h");
@@ -473,8 +475,9 @@ TEST(MgfContexts, WarningsForUnknownAndIgnoredEntities) {
 }
 
 TEST(MgfContexts, ContinuationLinesAndCrLf) {
-  const Scene s = parse("m g =\r\n rd 0.5\r\nv a =\r\n p 0 \\\r\n 0 0\r\nv b =\n p 1 0 0\n"
-                        "v d =\n p 0 1 0\nf a \\\n b \\\n d\n");
+  const Scene s = parse(
+      "m g =\r\n rd 0.5\r\nv a =\r\n p 0 \\\r\n 0 0\r\nv b =\n p 1 0 0\n"
+      "v d =\n p 0 1 0\nf a \\\n b \\\n d\n");
   EXPECT_EQ(s.faces.size(), 1u);
   EXPECT_NEAR(s.total_area(), 0.5, 1e-12);
 }
@@ -530,10 +533,10 @@ TEST(MgfErrors, MalformedPrimitivesAndLimits) {
     return -1;
   };
   EXPECT_EQ(line_of(prelude() + "sph c 0\n"), 6);
-  EXPECT_EQ(line_of(prelude() + "cone c 1 c 2\n"), 6);          // coincident ends
+  EXPECT_EQ(line_of(prelude() + "cone c 1 c 2\n"), 6);                    // coincident ends
   EXPECT_EQ(line_of(prelude() + "v t =\n p 0 0 1\ncone c 1 t -2\n"), 8);  // signs
   EXPECT_EQ(line_of(prelude() + "ring c 2 1\n"), 6);
-  EXPECT_EQ(line_of(prelude() + "prism c c c 1\n"), 6);        // zero-area base
+  EXPECT_EQ(line_of(prelude() + "prism c c c 1\n"), 6);  // zero-area base
   EXPECT_EQ(line_of(prelude() + "cxy 0.7 0.5\n"), 6);
   EXPECT_EQ(line_of(prelude() + "sides 3\n"), 6);
   EXPECT_EQ(line_of(prelude() + "v\nf c c\n"), 7);
@@ -546,7 +549,9 @@ TEST(MgfErrors, MalformedPrimitivesAndLimits) {
   // max_instances (the default, 1,000,000, is reached here by 1001 x 1000).
   const std::string face = "v a =\n p 0 0 0\nv b =\n p 1 0 0\nv d =\n p 0 1 0\n";
   EXPECT_EQ(line_of(prelude() + face + "xf -a 100000 -a 100000\nf a b d\nxf\n"), 12);
-  EXPECT_EQ(line_of(prelude() + face + "xf -a 1001 -t 1 0 0\nxf -a 1000 -t 0 1 0\nf a b d\nxf\nxf\n"), 13);
+  EXPECT_EQ(
+      line_of(prelude() + face + "xf -a 1001 -t 1 0 0\nxf -a 1000 -t 0 1 0\nf a b d\nxf\nxf\n"),
+      13);
   MgfOptions tiny;
   tiny.max_instances = 10;
   EXPECT_EQ(line_of(prelude() + face + "xf -a 5\nxf -a 3\nf a b d\nxf\nxf\n", tiny), 13);

@@ -2,8 +2,8 @@
 // exactly once), and solves on hwloc's synthetic two-node topology that report the
 // planned bindings, bytes per node and local-access ratios, with the links of the
 // sequential run.
-#include "core/hierarchy/element.h"
 #include "core/config/options_io.h"
+#include "core/hierarchy/element.h"
 #include "core/output/stats_json.h"
 #include "core/parallel/topology.h"
 #include "core/scene/builtin_scenes.h"
@@ -14,8 +14,8 @@
 #include "tests/env_guard.h"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <omp.h>
+#include <sys/wait.h>
 
 #include <atomic>
 #include <cmath>
@@ -145,7 +145,7 @@ struct NumaSolve {
 };
 
 NumaSolve solve_cornell(const std::string& scheduler, int threads, const std::string& pin,
-                  const std::string& placement, const std::string& pool_order = "submitted") {
+                        const std::string& placement, const std::string& pool_order = "submitted") {
   static const Scene scene = make_builtin("builtin:cornell");
   SolverOptions o;
   o.scheduler = scheduler;
@@ -170,12 +170,14 @@ void expect_consistent_numa_stats(const RunStats& stats, const std::string& what
     ASSERT_EQ(it.element_bytes_per_node.size(), 2u) << what;
     ASSERT_EQ(it.link_bytes_per_node.size(), 2u) << what;
     EXPECT_EQ(it.element_bytes_per_node[0] + it.element_bytes_per_node[1],
-              it.elements * sizeof(Element)) << what;
+              it.elements * sizeof(Element))
+        << what;
     // Every link byte is in an arena: the per-node counts add up to the link memory.
     EXPECT_EQ(it.link_bytes_per_node[0] + it.link_bytes_per_node[1], it.bytes.at("links")) << what;
     EXPECT_GE(it.bytes.at("links"), it.links * sizeof(Link)) << what;
     for (std::size_t n = 0; n < 2; ++n)
-      EXPECT_EQ(it.bytes_per_node[n], it.element_bytes_per_node[n] + it.link_bytes_per_node[n]) << what;
+      EXPECT_EQ(it.bytes_per_node[n], it.element_bytes_per_node[n] + it.link_bytes_per_node[n])
+          << what;
     std::uint64_t local = 0, remote = 0, tasks = 0;
     for (const RefinerStats& r : it.refiners) {
       local += r.tasks_local;
@@ -187,7 +189,8 @@ void expect_consistent_numa_stats(const RunStats& stats, const std::string& what
     ASSERT_GT(tasks, 0u) << what;
     EXPECT_GE(it.local_access_ratio, 0.0) << what;
     EXPECT_LE(it.local_access_ratio, 1.0) << what;
-    EXPECT_NEAR(it.local_access_ratio, static_cast<double>(local) / static_cast<double>(tasks), 1e-12)
+    EXPECT_NEAR(it.local_access_ratio, static_cast<double>(local) / static_cast<double>(tasks),
+                1e-12)
         << what;
   }
 }
@@ -269,7 +272,8 @@ TEST(SolverNuma, SyntheticTwoNodesInterleaveAndNode0) {
 TEST(SolverNuma, PoolOrdersKeepTheSequentialLinks) {
   const NumaSolve ref = solve_cornell("stack", 1, "none", "first-touch");
   for (const char* order : {"address", "subtree"}) {
-    EXPECT_TRUE(solve_cornell("blocked", 2, "none", "first-touch", order).links == ref.links) << order;
+    EXPECT_TRUE(solve_cornell("blocked", 2, "none", "first-touch", order).links == ref.links)
+        << order;
     EXPECT_TRUE(solve_cornell("fifo", 2, "none", "first-touch", order).links == ref.links) << order;
   }
 }

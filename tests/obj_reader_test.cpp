@@ -19,10 +19,11 @@ namespace {
 // The public Cornell boxes are not in the repository: they live in the shared scene
 // folder beside the checkout. Without it their tests are skipped, not failed.
 const std::string kScenes = HRAD_SOURCE_DIR "/../shared/scenes";
-#define SKIP_UNLESS_SHARED_SCENE(path)                                                   \
-  if (!std::filesystem::is_regular_file(path))                                           \
-  GTEST_SKIP() << (path) << " is absent: the public Cornell boxes come from the shared " \
-                            "scene folder ../shared/scenes beside the checkout"
+#define SKIP_UNLESS_SHARED_SCENE(path)                                         \
+  if (!std::filesystem::is_regular_file(path))                                 \
+  GTEST_SKIP() << (path)                                                       \
+               << " is absent: the public Cornell boxes come from the shared " \
+                  "scene folder ../shared/scenes beside the checkout"
 const std::string kData = HRAD_SOURCE_DIR "/tests/data/obj";
 constexpr double kPi = std::numbers::pi;
 
@@ -79,7 +80,8 @@ std::vector<std::vector<Vec3>> obj_polygons(const std::string& path) {
       for (const auto& q : polys)
         for (std::size_t r = 0; r < q.size() && !repeat && q.size() == poly.size(); ++r) {
           bool same = true;
-          for (std::size_t k = 0; k < q.size() && same; ++k) same = q[(r + k) % q.size()] == poly[k];
+          for (std::size_t k = 0; k < q.size() && same; ++k)
+            same = q[(r + k) % q.size()] == poly[k];
           repeat = same;
         }
       if (!repeat) polys.push_back(poly);
@@ -250,13 +252,17 @@ TEST(ObjMaterials, OneNumberKdOrKeIsAGrey) {
 // with exit 0 and wrote inf into solution.ply).
 TEST(ObjMaterials, BadKdAndKeAreQuotedAsWritten) {
   const auto what = [](const char* mtl) { return std::string(parse_error(kTriangle, mtl).what()); };
-  EXPECT_NE(what("newmtl a\nKd 1.2 0.7 0.7\n").find("t.mtl:2: material 'a': Kd 1.2 0.7 0.7 is outside [0, 1]"),
-            std::string::npos) << what("newmtl a\nKd 1.2 0.7 0.7\n");
-  EXPECT_NE(what("newmtl a\nKd 0 0 0\nKe -1 1 1\n").find("Ke -1 1 1 is negative"), std::string::npos)
+  EXPECT_NE(what("newmtl a\nKd 1.2 0.7 0.7\n")
+                .find("t.mtl:2: material 'a': Kd 1.2 0.7 0.7 is outside [0, 1]"),
+            std::string::npos)
+      << what("newmtl a\nKd 1.2 0.7 0.7\n");
+  EXPECT_NE(what("newmtl a\nKd 0 0 0\nKe -1 1 1\n").find("Ke -1 1 1 is negative"),
+            std::string::npos)
       << what("newmtl a\nKd 0 0 0\nKe -1 1 1\n");
   const InputError big = parse_error(kTriangle, "newmtl a\nKd 0 0 0\nKe 1e40 5 5\n");
   EXPECT_EQ(big.line(), 3);
-  EXPECT_NE(std::string(big.what()).find("Ke 1e40 5 5 is too large"), std::string::npos) << big.what();
+  EXPECT_NE(std::string(big.what()).find("Ke 1e40 5 5 is too large"), std::string::npos)
+      << big.what();
   // Just below the cap is fine.
   EXPECT_NO_THROW(parse_obj(std::string(kTriangle) + "usemtl a\nf 1 2 3\n",
                             "newmtl a\nKd 0 0 0\nKe 3e29 0 0\n", "t.obj"));

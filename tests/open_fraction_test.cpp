@@ -1,9 +1,9 @@
 // Open fractions (core/transport/open_fraction.h): the parts of faces closed in by contacts.
+#include "core/transport/open_fraction.h"
 #include "core/hierarchy/hierarchy.h"
 #include "core/parallel/lock_pool.h"
 #include "core/raycast/ray_scene.h"
 #include "core/scene/builtin_scenes.h"
-#include "core/transport/open_fraction.h"
 
 #include <gtest/gtest.h>
 
@@ -41,7 +41,8 @@ TEST(OpenFraction, FloorUnderABoxIsClosedInAndOpenElsewhere) {
       ++under;  // wholly under the corner box ([0.8, 1]^2 footprint)
       EXPECT_EQ(w, 0.0) << "centre " << g->center.transpose();
     }
-    if (g->box.hi.x() <= 0.125 + 1e-9 && g->box.lo.z() >= 0.25 - 1e-9 && g->box.hi.z() <= 0.375 + 1e-9) {
+    if (g->box.hi.x() <= 0.125 + 1e-9 && g->box.lo.z() >= 0.25 - 1e-9 &&
+        g->box.hi.z() <= 0.375 + 1e-9) {
       ++clear;  // [0, 0.125] x [0.25, 0.375]: no box stands there
       EXPECT_EQ(w, 1.0) << "centre " << g->center.transpose();
     }

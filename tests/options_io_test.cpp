@@ -164,8 +164,8 @@ TEST(OptionsIo, RoundTripValuesDifferFromEveryDefault) {
   SolverOptions set;
   const nlohmann::json j = options_to_json(o);
   for (const auto& [key, value] : j.items())
-    apply_option_assignment(set, key + "=" + (value.is_string() ? value.get<std::string>()
-                                                                : value.dump()));
+    apply_option_assignment(
+        set, key + "=" + (value.is_string() ? value.get<std::string>() : value.dump()));
   expect_equal(o, set);
 }
 
@@ -226,7 +226,7 @@ TEST(OptionsIo, SetAssignmentParsesEachType) {
   apply_option_assignment(o, "eps=2e-3");
   apply_option_assignment(o, "scheduler=fifo");
   apply_option_assignment(o, "seed=12345678901234");
-  apply_option_assignment(o, "trace=");  // empty string is a valid string value
+  apply_option_assignment(o, "trace=");      // empty string is a valid string value
   apply_option_assignment(o, "oracle=a=b");  // split at the first '='
   EXPECT_EQ(o.threads, 8);
   EXPECT_EQ(o.eps, 2e-3);
@@ -354,18 +354,23 @@ TEST(OptionsIo, CameraKeyIsCheckedWhereItIsRead) {
   std::string e = error_of([&] {
     apply_options_json(o, nlohmann::json::parse(R"({"camera": "eye=1,2:look=0,0,0"})"), "c.json");
   });
-  EXPECT_EQ(e, "c.json: option 'camera' = 'eye=1,2:look=0,0,0': 'eye=1,2' needs three numbers "
-               "eye=X,Y,Z, got 2") << e;
+  EXPECT_EQ(e,
+            "c.json: option 'camera' = 'eye=1,2:look=0,0,0': 'eye=1,2' needs three numbers "
+            "eye=X,Y,Z, got 2")
+      << e;
   e = error_of([&] {
     apply_options_json(o, nlohmann::json::parse(R"({"camera": {"eye": [1, 2, 3]}})"), "c.json");
   });
   EXPECT_TRUE(contains(e, "c.json: option 'camera' expects a string, got object")) << e;
   e = error_of([&] { apply_option_assignment(o, "camera=eye=1,2,3"); });
-  EXPECT_TRUE(contains(e, "--set camera=eye=1,2,3: option 'camera' = 'eye=1,2,3': no look=X,Y,Z part"))
+  EXPECT_TRUE(
+      contains(e, "--set camera=eye=1,2,3: option 'camera' = 'eye=1,2,3': no look=X,Y,Z part"))
       << e;
   e = error_of([&] { apply_option_value(o, "camera", "eye=1,2,3:look=1,2,3", "--camera"); });
-  EXPECT_TRUE(contains(e, "--camera: option 'camera' = 'eye=1,2,3:look=1,2,3': look is the same "
-                          "point as eye")) << e;
+  EXPECT_TRUE(contains(e,
+                       "--camera: option 'camera' = 'eye=1,2,3:look=1,2,3': look is the same "
+                       "point as eye"))
+      << e;
   EXPECT_EQ(o.camera, "");  // nothing was half-applied
   // Options built in code are checked by validate_options.
   o.camera = "eye=0,0,0:look=1,0,0:fov=200";

@@ -1,8 +1,8 @@
 // The oracles' link error: the occlusion weight of links with a cluster end
 // (oracles/oracle.h) and the directional cluster model's sums (add_by_axis in
 // core/hierarchy/element.h) that those links' form factors come from.
-#include "core/hierarchy/element.h"
 #include "oracles/oracle.h"
+#include "core/hierarchy/element.h"
 
 #include <gtest/gtest.h>
 
@@ -70,10 +70,10 @@ TEST(Oracle, DarkReceiversAreJudgedAgainstTheirOwnLight) {
     r.B = Rgb::Constant(b);
     return receiver_threshold(l, t);
   };
-  EXPECT_DOUBLE_EQ(threshold_at(0), 2.0);          // nothing gathered yet
+  EXPECT_DOUBLE_EQ(threshold_at(0), 2.0);            // nothing gathered yet
   EXPECT_NEAR(threshold_at(1.0), 2.0 * 0.5, 1e-12);  // E_r = 1 / 0.5 = 2: half the mean
   EXPECT_NEAR(threshold_at(0.1), 2.0 * kDarkThresholdFloor, 1e-12);  // E_r 0.2: the floor
-  EXPECT_DOUBLE_EQ(threshold_at(5.0), 2.0);        // brighter than the mean: eps itself
+  EXPECT_DOUBLE_EQ(threshold_at(5.0), 2.0);  // brighter than the mean: eps itself
   // Emission is not light gathered: an emitter of exitance 1 with B = 1.5 has E_r = 1.
   r.emission = Rgb::Constant(1.0);
   EXPECT_NEAR(threshold_at(1.5), 2.0 * 0.25, 1e-12);
@@ -193,9 +193,9 @@ TEST(Oracle, ErrorOracleWeighsSpreadAndPartialVisibility) {
   const auto err = [&](const Element& r, const Element& s, double v) {
     return oracle->judge(LinkEstimate{&r, &s, f, v, spread}, t).error;
   };
-  EXPECT_EQ(err(rs, ss, 1.0), 4 * spread);        // 0.25
-  EXPECT_EQ(err(rs, ss, 0.0), 4 * spread);        // hidden: no boundary either
-  EXPECT_EQ(err(rs, ss, 0.5), 4 * (spread + f));  // 0.75
+  EXPECT_EQ(err(rs, ss, 1.0), 4 * spread);            // 0.25
+  EXPECT_EQ(err(rs, ss, 0.0), 4 * spread);            // hidden: no boundary either
+  EXPECT_EQ(err(rs, ss, 0.5), 4 * (spread + f));      // 0.75
   EXPECT_EQ(err(rs, ss, 0.96875), 4 * (spread + f));  // just below 1 is partial
   EXPECT_EQ(err(rs, ss, 0.03125), 4 * (spread + f));  // just above 0 too
   for (const auto& [r, s] : {std::pair{&rc, &ss}, std::pair{&rs, &sc}, std::pair{&rc, &sc}}) {

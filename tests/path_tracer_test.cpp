@@ -99,9 +99,9 @@ TEST(PathTracer, ParallelDiscOnAxis) {
 // air, facing any way, is E / (1 - rho) as well.
 TEST(PathTracer, Furnace) {
   const std::vector<Probe> probes = {
-      {Vec3(0.7, 0.0, 0.2), Vec3::UnitY()},                     // on the floor
-      {Vec3(0.1, 0.9, 0.1), Vec3(1, -1, 1).normalized()},        // in the air
-      {Vec3(0.325, 0.45, 0.325), Vec3::UnitY()},                 // on top of the cube
+      {Vec3(0.7, 0.0, 0.2), Vec3::UnitY()},                // on the floor
+      {Vec3(0.1, 0.9, 0.1), Vec3(1, -1, 1).normalized()},  // in the air
+      {Vec3(0.325, 0.45, 0.325), Vec3::UnitY()},           // on top of the cube
   };
   for (const double rho : {0.5, 0.9}) {
     const Scene scene = make_builtin(fmt::format("builtin:furnace?rho={}&emission=2", rho));
@@ -150,13 +150,13 @@ TEST(PathTracer, CornellDirectLightClosedForm) {
 }
 
 std::vector<Probe> cornell_probes() {
-  return {{Vec3(2.78, 0.0, 2.8), Vec3::UnitY()},   // floor, centre (between the blocks)
-          {Vec3(1.0, 0.0, 4.5), Vec3::UnitY()},    // floor, back right
+  return {{Vec3(2.78, 0.0, 2.8), Vec3::UnitY()},     // floor, centre (between the blocks)
+          {Vec3(1.0, 0.0, 4.5), Vec3::UnitY()},      // floor, back right
           {Vec3(2.78, 5.488, 1.0), -Vec3::UnitY()},  // ceiling, front
-          {Vec3(0.0, 2.5, 2.8), Vec3::UnitX()},    // green wall
-          {Vec3(5.56, 2.5, 2.8), -Vec3::UnitX()},  // red wall
+          {Vec3(0.0, 2.5, 2.8), Vec3::UnitX()},      // green wall
+          {Vec3(5.56, 2.5, 2.8), -Vec3::UnitX()},    // red wall
           {Vec3(2.78, 2.7, 5.592), -Vec3::UnitZ()},  // back wall
-          {Vec3(2.78, 2.7, 1.0), Vec3::UnitZ()}};  // in the air, facing the back
+          {Vec3(2.78, 2.7, 1.0), Vec3::UnitZ()}};    // in the air, facing the back
 }
 
 // The reference and `hrad solve`'s final gather agree on the Cornell box: a gross

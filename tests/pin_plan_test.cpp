@@ -144,7 +144,8 @@ TEST(PinPlan, SyntheticTopologiesGiveTheHandBuiltPlans) {
     const char* spec;
     std::vector<int> cores;
   };
-  for (const Case& c : {Case{"node:2 core:2 pu:1", {2, 2}}, Case{"node:4 core:8 pu:1", {8, 8, 8, 8}}}) {
+  for (const Case& c :
+       {Case{"node:2 core:2 pu:1", {2, 2}}, Case{"node:4 core:8 pu:1", {8, 8, 8, 8}}}) {
     TopologyInfo t;
     {
       EnvGuard env("HWLOC_SYNTHETIC", c.spec);
@@ -159,9 +160,11 @@ TEST(PinPlan, SyntheticTopologiesGiveTheHandBuiltPlans) {
       const int threads = t.pus + 1;
       const PinPlan a = make_pin_plan(t, p, threads), b = make_pin_plan(h, p, threads);
       for (int i = 0; i < threads; ++i) {
-        EXPECT_EQ(a.refiners[static_cast<std::size_t>(i)].pus, b.refiners[static_cast<std::size_t>(i)].pus)
+        EXPECT_EQ(a.refiners[static_cast<std::size_t>(i)].pus,
+                  b.refiners[static_cast<std::size_t>(i)].pus)
             << c.spec << " " << enum_name(p) << " refiner " << i;
-        EXPECT_EQ(a.refiners[static_cast<std::size_t>(i)].node, b.refiners[static_cast<std::size_t>(i)].node);
+        EXPECT_EQ(a.refiners[static_cast<std::size_t>(i)].node,
+                  b.refiners[static_cast<std::size_t>(i)].node);
       }
     }
   }

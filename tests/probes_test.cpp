@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include <limits>
 #include <unistd.h>
+#include <limits>
 
 #include <filesystem>
 #include <fstream>
@@ -113,7 +113,8 @@ TEST(Probes, CsvHasHeaderAndNineSignificantDigits) {
   EXPECT_FALSE(std::filesystem::exists(path));
   // No non-finite value reaches the file.
   const double inf = std::numeric_limits<double>::infinity();
-  EXPECT_THROW(write_probes_csv(path, probes, {Rgb(1, 1, 1), Rgb(inf, 0, 0)}), std::invalid_argument);
+  EXPECT_THROW(write_probes_csv(path, probes, {Rgb(1, 1, 1), Rgb(inf, 0, 0)}),
+               std::invalid_argument);
   EXPECT_FALSE(std::filesystem::exists(path));
 }
 

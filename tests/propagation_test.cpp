@@ -3,8 +3,8 @@
 // sweep is B <- E + rho F B_other and the answer is known in closed form. With both
 // squares alike, B_k = E (1 + q + ... + q^k) after k sweeps from B_0 = E (q = rho F),
 // which converges to E / (1 - q) when q < 1 and grows without bound when q >= 1.
-#include "core/hierarchy/hierarchy.h"
 #include "core/solver/propagation.h"
+#include "core/hierarchy/hierarchy.h"
 #include "tests/solver_test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
 // Push weights (core/solver/push_weights.h): how an element's irradiance is shared among its
 // children. Checked on the empty furnace room (six walls, each one input polygon).
+#include "core/solver/push_weights.h"
 #include "core/hierarchy/hierarchy.h"
 #include "core/parallel/lock_pool.h"
 #include "core/raycast/ray_scene.h"
 #include "core/scene/builtin_scenes.h"
-#include "core/solver/push_weights.h"
 #include "core/transport/transport.h"
 
 #include <gtest/gtest.h>
@@ -105,8 +105,8 @@ TEST(PushWeights, AdjacentWallFavoursTheNearChildren) {
   update_push_weights(room.h.elements(), room.transport, 1);
   double mean_g = 0;
   for (const Element& g : grandkids)
-    mean_g += g.area * room.transport.form_factor_from_point(g.center, g.normal, *side) /
-              quarter.area;
+    mean_g +=
+        g.area * room.transport.form_factor_from_point(g.center, g.normal, *side) / quarter.area;
   EXPECT_NEAR(area_weighted_sum(grandkids), quarter.area, 1e-6 * quarter.area);
   for (const Element& g : grandkids)
     EXPECT_NEAR(g.push_weight,

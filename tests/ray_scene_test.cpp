@@ -83,8 +83,8 @@ TEST(RayScene, EndPointOnSurfaceAtGrazingAnglesIsNotOccluded) {
     const double elevation = (0.1 + 89.9 * uni(rng)) * std::numbers::pi / 180.0;
     const double azimuth = 2 * std::numbers::pi * uni(rng);
     const double len = 0.05 + 2 * uni(rng);
-    const Vec3 dir(std::cos(elevation) * std::cos(azimuth),
-                   std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+    const Vec3 dir(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                   std::sin(elevation));
     const Vec3 off = on + len * dir;
     wrong += rs.occluded(off, on) ? 1 : 0;
     wrong += rs.occluded(on, off) ? 1 : 0;
@@ -97,10 +97,10 @@ struct Query {
   Vec3 from, to;
 };
 std::vector<Query> standard_queries() {
-  return {{{0.5, 0.5, 1}, {0.5, 0.5, -0.5}}, {{0.5, 0.5, 1}, {0.5, 0.5, 0}},
-          {{1.5, 0.5, 1}, {1.5, 0.5, -2}},   {{0.2, 0.2, 1}, {0.2, 0.2, -2}},
+  return {{{0.5, 0.5, 1}, {0.5, 0.5, -0.5}},  {{0.5, 0.5, 1}, {0.5, 0.5, 0}},
+          {{1.5, 0.5, 1}, {1.5, 0.5, -2}},    {{0.2, 0.2, 1}, {0.2, 0.2, -2}},
           {{0.2, 0.2, -0.5}, {0.2, 0.2, -1}}, {{0.7, 0.7, -0.5}, {0.7, 0.7, -2}},
-          {{0.3, 0.2, 0}, {0.7, 0.9, 1}},    {{0.9, 0.9, 0.5}, {0.1, 0.1, -1.5}}};
+          {{0.3, 0.2, 0}, {0.7, 0.9, 1}},     {{0.9, 0.9, 0.5}, {0.1, 0.1, -1.5}}};
 }
 
 TEST(RayScene, AnswersDoNotDependOnScaleOrPosition) {
@@ -156,8 +156,8 @@ TEST(RayScene, IntersectQuadUsesCornerZeroWithUTowardsOneAndVTowardsThree) {
   s.add({p0, p0 + eu, p0 + eu + ev, p0 + ev});
   const RayScene rs = s.build();
   // Points in both of Embree's internal triangles (split along p1-p3).
-  for (const auto& [u, v] : {std::pair{0.2, 0.3}, std::pair{0.8, 0.9}, std::pair{0.9, 0.15},
-                             std::pair{0.1, 0.85}}) {
+  for (const auto& [u, v] :
+       {std::pair{0.2, 0.3}, std::pair{0.8, 0.9}, std::pair{0.9, 0.15}, std::pair{0.1, 0.85}}) {
     const Vec3 target = p0 + u * eu + v * ev;
     const auto hit = rs.intersect(target + Vec3(0, 0, 1), {0, 0, -1});
     ASSERT_TRUE(hit);
@@ -292,9 +292,9 @@ TEST(RayScene, AgreesWithDoublePrecisionReferenceOnRandomSoup) {
     const Vec3 p(uni(rng), uni(rng), uni(rng)), q(uni(rng), uni(rng), uni(rng));
     bool blocked = false, clear = true;
     for (const PolygonRange& r : s.polys) {
-      const auto [in, ok] = crosses(p, q, s.vertices[s.indices[r.first]],
-                                    s.vertices[s.indices[r.first + 1]],
-                                    s.vertices[s.indices[r.first + 2]], 1e-4);
+      const auto [in, ok] =
+          crosses(p, q, s.vertices[s.indices[r.first]], s.vertices[s.indices[r.first + 1]],
+                  s.vertices[s.indices[r.first + 2]], 1e-4);
       blocked = blocked || in;
       clear = clear && ok;
     }

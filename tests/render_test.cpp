@@ -85,8 +85,8 @@ TEST(Render, SupersamplingGivesFractionalCoverageAtEdges) {
   const RenderMesh m = square({1, 1, 1, 1});
   const Image img = render_radiance(m, head_on(), 66, 66, 2);
   EXPECT_FLOAT_EQ(img.coverage[33 * 66 + 33], 1.0f);
-  EXPECT_FLOAT_EQ(img.coverage[33 * 66 + 16], 0.5f);  // left edge
-  EXPECT_FLOAT_EQ(img.coverage[33 * 66 + 49], 0.5f);  // right edge
+  EXPECT_FLOAT_EQ(img.coverage[33 * 66 + 16], 0.5f);   // left edge
+  EXPECT_FLOAT_EQ(img.coverage[33 * 66 + 49], 0.5f);   // right edge
   EXPECT_FLOAT_EQ(img.coverage[16 * 66 + 16], 0.25f);  // corner
   EXPECT_FLOAT_EQ(img.coverage[33 * 66 + 15], 0.0f);
   EXPECT_NEAR(img.at(16, 33)[0], 0.5 / kPi, 1e-12);
@@ -156,9 +156,8 @@ TEST(Render, PngFileHasTheRenderedPixels) {
   ASSERT_GT(bytes.size(), 8u);
   EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   int w = 0, h = 0, comp = 0;
-  unsigned char* px =
-      stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()),
-                            static_cast<int>(bytes.size()), &w, &h, &comp, 3);
+  unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()),
+                                            static_cast<int>(bytes.size()), &w, &h, &comp, 3);
   ASSERT_NE(px, nullptr);
   EXPECT_EQ(w, 64);
   EXPECT_EQ(h, 48);
@@ -192,8 +191,8 @@ TEST(Render, RejectsBadMeshesAndCameras) {
 
 TEST(Render, MeshFromEmissionSplitsLargePolygonsAndCopiesEmission) {
   Scene sc;
-  sc.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {3, 0, 0}, {3, 1, 0},
-                 {2.5, 2, 0}, {2, 1, 0}};
+  sc.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0},   {0, 1, 0}, {2, 0, 0},
+                 {3, 0, 0}, {3, 1, 0}, {2.5, 2, 0}, {2, 1, 0}};
   sc.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8, 0, 1, 3};
   Material lamp;
   lamp.emission = Rgb(1, 2, 3);

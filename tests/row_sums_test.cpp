@@ -1,8 +1,8 @@
 // Row-sum statistics (core/solver/row_sums.h) on links set by hand, where every leaf's row
 // sum is known exactly.
+#include "core/solver/row_sums.h"
 #include "core/hierarchy/hierarchy.h"
 #include "core/raycast/ray_scene.h"
-#include "core/solver/row_sums.h"
 #include "tests/solver_test_util.h"
 
 #include <gtest/gtest.h>

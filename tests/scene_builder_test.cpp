@@ -70,7 +70,8 @@ TEST(SceneBuilder, TriangulatesPolygonWithSeamHole) {
   std::vector<std::uint32_t> o, h;
   for (const Vec3& p : outer) o.push_back(b.add_vertex(p, kHere));
   for (const Vec3& p : hole) h.push_back(b.add_vertex(p, kHere));
-  const std::vector<std::uint32_t> loop = {o[0], o[1], o[2], o[3], h[0], h[1], h[2], h[3], h[0], o[3]};
+  const std::vector<std::uint32_t> loop = {o[0], o[1], o[2], o[3], h[0],
+                                           h[1], h[2], h[3], h[0], o[3]};
   b.add_polygon(loop, m, kHere);
   const Scene s = b.finish("f");
   EXPECT_NEAR(s.total_area(), 12.0, 1e-12);

@@ -36,8 +36,8 @@ TEST(ScheduleIndependence, EverySchedulerAndThreadCountGivesTheSequentialLinks) 
     for (int threads : {1, 2, 4}) {
       for (int block : {1, 10}) {
         const Reference got = solve(scene, name, threads, block);
-        const std::string what = name + " threads=" + std::to_string(threads) +
-                                 " block=" + std::to_string(block);
+        const std::string what =
+            name + " threads=" + std::to_string(threads) + " block=" + std::to_string(block);
         ASSERT_EQ(got.links.size(), ref.links.size()) << what;
         EXPECT_TRUE(got.links == ref.links) << what;
         ASSERT_EQ(got.leaves.size(), ref.leaves.size()) << what;

@@ -1,8 +1,8 @@
 // Every registered scheduler, driven by the stage driver refinement runs on
 // (core/stage/run_stage.h), on a synthetic task tree whose task ids are encoded in the
 // receiver pointer bits (never dereferenced).
-#include "core/stage/run_stage.h"
 #include "schedulers/scheduler.h"
+#include "core/stage/run_stage.h"
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -117,7 +117,8 @@ RunResult run_tree(IScheduler& s, const Tree& tree, int threads, int block_size,
 // `foreign_roots` roots go through that thread, one by one; it holds one unit of
 // `pending` until its last submit. For `stealing` these go through its inbox, never
 // onto a deque another thread owns.
-std::uint64_t run_tree_fed_from_outside(IScheduler& s, const Tree& tree, std::uint32_t foreign_roots,
+std::uint64_t run_tree_fed_from_outside(IScheduler& s, const Tree& tree,
+                                        std::uint32_t foreign_roots,
                                         std::vector<std::atomic<std::uint32_t>>& runs) {
   const std::uint32_t loaded = tree.roots - foreign_roots;
   std::vector<Task> initial;
@@ -491,7 +492,8 @@ TEST(SchedSubmitAndTake, SameAsSubmitThenTake) {
       const std::size_t na = own_only ? a->take_own(worker, out_a) : a->take(worker, out_a);
       const std::size_t nb = b->submit_and_take(worker, kids, out_b, own_only);
       ASSERT_EQ(na, nb) << "step " << step;
-      for (std::size_t i = 0; i < na; ++i) ASSERT_EQ(id_of(out_a[i]), id_of(out_b[i])) << "step " << step;
+      for (std::size_t i = 0; i < na; ++i)
+        ASSERT_EQ(id_of(out_a[i]), id_of(out_b[i])) << "step " << step;
     }
     const SchedulerCounters ca = a->counters(), cb = b->counters();
     EXPECT_EQ(ca.takes, cb.takes);

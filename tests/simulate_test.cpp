@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -17,8 +19,6 @@
 #include <fstream>
 #include <random>
 #include <sstream>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace hrad::sim {
 namespace {
@@ -59,7 +59,9 @@ class TraceBuilder {
   std::vector<TraceRecord> records;
 
  private:
-  std::uint64_t next_id() const { return (std::uint64_t{1} << 48) | (std::uint64_t{iteration_} << 40) | seq_; }
+  std::uint64_t next_id() const {
+    return (std::uint64_t{1} << 48) | (std::uint64_t{iteration_} << 40) | seq_;
+  }
   std::uint8_t iteration_;
   std::uint64_t roots_ = 0, seq_ = 0;
 };
@@ -186,10 +188,13 @@ TEST(Simulate, EveryTaskRunsExactlyOnceAndTimeIsAccountedFor) {
         for (std::size_t k = 0; k < 3; ++k) {
           const IterationResult& it = r.iterations[k];
           ASSERT_EQ(it.executions.size(), g.iterations[k].tasks.size());
-          for (std::uint32_t e : it.executions) ASSERT_EQ(e, 1u) << policy_name(policy) << " p=" << p;
+          for (std::uint32_t e : it.executions)
+            ASSERT_EQ(e, 1u) << policy_name(policy) << " p=" << p;
           const double sum = it.busy_ns + it.overhead_ns + it.lock_wait_ns + it.idle_ns;
-          EXPECT_NEAR(sum, it.time_ns * p, 1e-6 * it.time_ns * p) << policy_name(policy) << " p=" << p;
-          EXPECT_GE(it.time_ns * (1 + 1e-12), static_cast<double>(g.iterations[k].critical_path_ns));
+          EXPECT_NEAR(sum, it.time_ns * p, 1e-6 * it.time_ns * p)
+              << policy_name(policy) << " p=" << p;
+          EXPECT_GE(it.time_ns * (1 + 1e-12),
+                    static_cast<double>(g.iterations[k].critical_path_ns));
           EXPECT_GE(it.time_ns * p * (1 + 1e-12), static_cast<double>(g.iterations[k].work_ns));
         }
         EXPECT_EQ(r.totals().tasks, records.size());
@@ -210,14 +215,16 @@ TEST(Simulate, OneProcessorWithFreeSchedulingTakesTheSummedDurations) {
   // The slowdown factor applies from 2 processors on only.
   CostModel slow;
   slow.slowdown = 2;
-  EXPECT_EQ(simulate(g, config(Policy::kStack, 1, 1, slow)).time_ns(), static_cast<double>(g.work_ns()));
+  EXPECT_EQ(simulate(g, config(Policy::kStack, 1, 1, slow)).time_ns(),
+            static_cast<double>(g.work_ns()));
   EXPECT_DOUBLE_EQ(simulate(g, config(Policy::kStack, 2, 1, slow)).totals().busy_ns,
                    2.0 * static_cast<double>(g.work_ns()));
 }
 
 TEST(Simulate, TraceRoundTripKeepsTheGraph) {
   const std::vector<TraceRecord> records = random_trace(3);
-  const fs::path path = fs::temp_directory_path() / ("hrad-simulate-test-" + std::to_string(::getpid()) + ".bin");
+  const fs::path path =
+      fs::temp_directory_path() / ("hrad-simulate-test-" + std::to_string(::getpid()) + ".bin");
   write_trace(path, R"({"format":"hrad-trace","version":1})", records);
   std::string header;
   const std::vector<TraceRecord> back = read_trace(path, &header);
@@ -254,9 +261,11 @@ TEST(Simulate, StealingScalesOnABalancedTree) {
   // 4095 tasks of 1 us, critical path 12 us: at p <= 16 the ideal time is within 5% of
   // work / p; stealing with the measured costs must reach 85% of p.
   const TaskGraph g = build_task_graph(binary_tree(12, 1000));
-  const double t1 = simulate(g, config(Policy::kStealing, 1, 1, default_costs(Policy::kStealing))).time_ns();
+  const double t1 =
+      simulate(g, config(Policy::kStealing, 1, 1, default_costs(Policy::kStealing))).time_ns();
   for (int p : {2, 4, 8, 16}) {
-    const SimResult r = simulate(g, config(Policy::kStealing, p, 1, default_costs(Policy::kStealing)));
+    const SimResult r =
+        simulate(g, config(Policy::kStealing, p, 1, default_costs(Policy::kStealing)));
     EXPECT_GE(t1 / r.time_ns(), 0.85 * p) << p << " procs";
     EXPECT_LE(t1 / r.time_ns(), p * (1 + 1e-9)) << p << " procs";
     EXPECT_GT(r.totals().steals, 0u);
@@ -297,9 +306,11 @@ TEST(Simulate, BadInputIsReported) {
   twice.push_back(b.records.back());
   EXPECT_THROW(build_task_graph(twice), std::runtime_error);
   EXPECT_THROW(policy_from_name("lifo"), std::invalid_argument);
-  EXPECT_THROW(simulate(build_task_graph(b.records), config(Policy::kStack, 0)), std::invalid_argument);
+  EXPECT_THROW(simulate(build_task_graph(b.records), config(Policy::kStack, 0)),
+               std::invalid_argument);
 
-  const fs::path costs = fs::temp_directory_path() / ("hrad-costs-" + std::to_string(::getpid()) + ".json");
+  const fs::path costs =
+      fs::temp_directory_path() / ("hrad-costs-" + std::to_string(::getpid()) + ".json");
   std::ofstream(costs) << R"({"take_op_ns": 5, "tak_task_ns": 1})";
   CostModel c;
   EXPECT_THROW(load_costs(costs, c), std::runtime_error);
@@ -341,11 +352,13 @@ TEST(Simulate, EveryRegisteredSchedulerIsModelledOrListedAsNot) {
 // `hrad simulate` end to end: a table and a CSV marked "simulated"; bad input exits 1
 // with a message and writes nothing.
 TEST(Simulate, CommandLine) {
-  const fs::path dir = fs::temp_directory_path() / ("hrad-simulate-cli-" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("hrad-simulate-cli-" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  write_trace(dir / "t.bin",
-              R"({"format":"hrad-trace","version":1,"threads":1,"scheduler":"blocked","block_size":2})",
-              binary_tree(8, 2000));
+  write_trace(
+      dir / "t.bin",
+      R"({"format":"hrad-trace","version":1,"threads":1,"scheduler":"blocked","block_size":2})",
+      binary_tree(8, 2000));
   std::ofstream(dir / "junk.bin") << "hello\n";
   std::ofstream(dir / "zero.json") << R"({"take_op_ns": 0, "take_task_ns": 0, "submit_op_ns": 0,
       "copy_task_ns": 0, "start_ns": 0})";
@@ -383,13 +396,19 @@ TEST(Simulate, CommandLine) {
   EXPECT_NE(text("out.txt").find("critical path 16.000 us"), std::string::npos) << text("out.txt");
 
   // Cutting every 2000 ns task to 1000 ns halves the 1-processor time (zero costs).
-  ASSERT_EQ(run("t.bin --procs 1 --max-task-ns 1000 --costs zero.json --overheads typical --block-ns 0 "
-                "--quiet --out cut.csv"), 0) << text("err.txt");
-  EXPECT_NE(text("out.txt").find("cut 255 task(s) by 0.000255 s in all"), std::string::npos) << text("out.txt");
-  EXPECT_NE(text("cut.csv").find("simulated,blocked,2,1,all,0.000255,"), std::string::npos) << text("cut.csv");
+  ASSERT_EQ(
+      run("t.bin --procs 1 --max-task-ns 1000 --costs zero.json --overheads typical --block-ns 0 "
+          "--quiet --out cut.csv"),
+      0)
+      << text("err.txt");
+  EXPECT_NE(text("out.txt").find("cut 255 task(s) by 0.000255 s in all"), std::string::npos)
+      << text("out.txt");
+  EXPECT_NE(text("cut.csv").find("simulated,blocked,2,1,all,0.000255,"), std::string::npos)
+      << text("cut.csv");
 
   EXPECT_EQ(run("junk.bin --out bad.csv"), 1);
-  EXPECT_NE(text("err.txt").find("junk.bin: not an hrad trace"), std::string::npos) << text("err.txt");
+  EXPECT_NE(text("err.txt").find("junk.bin: not an hrad trace"), std::string::npos)
+      << text("err.txt");
   EXPECT_EQ(run("t.bin --scheduler lifo --out bad.csv"), 1);
   EXPECT_NE(text("err.txt").find("unknown scheduler 'lifo'"), std::string::npos) << text("err.txt");
   // A registered scheduler without a model, asked for or the trace's own, is named as such.

@@ -191,14 +191,15 @@ TEST(SmoothShading, ConstantRadiosityStaysConstant) {
 
 TEST(SmoothShading, CreasesMaterialsAndClosedInLeavesStaySeparate) {
   Patches p;
-  p.add(square(0, 0, 1, 1), 1);                                   // 0: floor
-  p.add({{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}}, 4);         // 1: wall at x = 0, 90 deg
-  p.add(square(1, 0, 2, 1), 3, /*material=*/1);                   // 2: same plane, other material
+  p.add(square(0, 0, 1, 1), 1);                            // 0: floor
+  p.add({{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}}, 4);  // 1: wall at x = 0, 90 deg
+  p.add(square(1, 0, 2, 1), 3, /*material=*/1);            // 2: same plane, other material
   // 3: the floor continued past y = 1, bent up by 20 degrees: shares its edge y = 1.
   const double t = 20 * std::numbers::pi / 180;
-  p.add({{0, 1, 0}, {1, 1, 0}, {1, 1 + std::cos(t), std::sin(t)}, {0, 1 + std::cos(t), std::sin(t)}},
-        2);
-  p.add(square(0, -1, 1, 0), 0, 0, /*open=*/0);                    // 4: closed in, dark
+  p.add(
+      {{0, 1, 0}, {1, 1, 0}, {1, 1 + std::cos(t), std::sin(t)}, {0, 1 + std::cos(t), std::sin(t)}},
+      2);
+  p.add(square(0, -1, 1, 0), 0, 0, /*open=*/0);  // 4: closed in, dark
   const RenderMesh m = shade_patches(p.list, Shading::Smooth, 1e-9);
   const auto values = [&](const Vec3& x) {
     std::set<double> v;
@@ -257,7 +258,7 @@ TEST(SmoothShading, SolvedCornellBoxHasNoTVertices) {
   using Key = std::tuple<long long, long long, long long, long long, long long, long long>;
   const auto count_t_vertices = [&](const RenderMesh& m) {
     const auto key = [&](const Vec3& x, const Vec3& n) {
-      return Key{std::llround(x.x() / q), std::llround(x.y() / q), std::llround(x.z() / q),
+      return Key{std::llround(x.x() / q),   std::llround(x.y() / q),   std::llround(x.z() / q),
                  std::llround(n.x() * 1e3), std::llround(n.y() * 1e3), std::llround(n.z() * 1e3)};
     };
     std::set<Key> corners;
@@ -275,8 +276,8 @@ TEST(SmoothShading, SolvedCornellBoxHasNoTVertices) {
       const auto& f = m.polys[i];
       const int k = RenderMesh::is_triangle(f) ? 3 : 4;
       for (int c = 0; c < k; ++c)
-        found += corners.count(key(0.5 * (m.positions[f[c]] + m.positions[f[(c + 1) % k]]),
-                                   normals[i]));
+        found +=
+            corners.count(key(0.5 * (m.positions[f[c]] + m.positions[f[(c + 1) % k]]), normals[i]));
     }
     return found;
   };

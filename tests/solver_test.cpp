@@ -1,8 +1,8 @@
 // End-to-end tests of the hierarchical solver on scenes with known answers.
+#include "core/solver/solver.h"
 #include "core/base/interrupt.h"
 #include "core/scene/builtin_scenes.h"
 #include "core/scene/probes.h"
-#include "core/solver/solver.h"
 #include "schedulers/scheduler.h"
 #include "tests/read_text.h"
 #include "tests/solver_test_util.h"
@@ -53,8 +53,9 @@ void expect_finite_nonnegative(const std::vector<Solver::Leaf>& leaves) {
 TEST(SolverFurnace, NormalizedRowSumsGiveClosedFormEverywhere) {
   for (const char* spec : {"builtin:furnace?objects=0", "builtin:furnace"}) {
     for (double rho : {0.5, 0.9, 0.99}) {
-      const Scene scene = make_builtin(std::string(spec) + (std::string(spec).find('?') ==
-                                       std::string::npos ? "?" : "&") + "rho=" + std::to_string(rho));
+      const Scene scene = make_builtin(
+          std::string(spec) + (std::string(spec).find('?') == std::string::npos ? "?" : "&") +
+          "rho=" + std::to_string(rho));
       SolverOptions o;
       o.iterations = 2;
       o.row_sums = RowSumMode::Normalize;
@@ -150,12 +151,12 @@ TEST(SolverFurnace, RowSumsOfAClosedRoomAreOneAtTheDefaults) {
 // target, 1 % each, is not met.
 TEST(SolverFurnace, ClutteredFurnaceAtDefaults) {
   const std::vector<Probe> probes = {
-      {{0.2, 0.8, 1e-4}, {0, 0, 1}},    {{0.5, 0.5, 1 - 1e-4}, {0, 0, -1}},  // z walls
-      {{1e-4, 0.3, 0.2}, {1, 0, 0}},    {{1 - 1e-4, 0.7, 0.7}, {-1, 0, 0}},  // x walls
-      {{0.3, 1 - 1e-4, 0.3}, {0, -1, 0}}, {{0.15, 1e-4, 0.4}, {0, 1, 0}},   // ceiling, floor
-      {{0.16, 0.52 + 1e-4, 0.16}, {0, 1, 0}},  // top of a floating box
+      {{0.2, 0.8, 1e-4}, {0, 0, 1}},           {{0.5, 0.5, 1 - 1e-4}, {0, 0, -1}},  // z walls
+      {{1e-4, 0.3, 0.2}, {1, 0, 0}},           {{1 - 1e-4, 0.7, 0.7}, {-1, 0, 0}},  // x walls
+      {{0.3, 1 - 1e-4, 0.3}, {0, -1, 0}},      {{0.15, 1e-4, 0.4}, {0, 1, 0}},  // ceiling, floor
+      {{0.16, 0.52 + 1e-4, 0.16}, {0, 1, 0}},   // top of a floating box
       {{0.16, 0.40 - 1e-4, 0.16}, {0, -1, 0}},  // its underside
-      {{0.40, 0.33 + 1e-4, 0.40}, {0, 1, 0}},  // top of the stack
+      {{0.40, 0.33 + 1e-4, 0.40}, {0, 1, 0}},   // top of the stack
       {{0.30 - 1e-4, 0.07, 0.40}, {-1, 0, 0}},  // side of the stack's bottom box
       {{0.25, 0.755 + 1e-4, 0.30}, {0, 1, 0}},  // a floating plate, top ...
       {{0.25, 0.75 - 1e-4, 0.30}, {0, -1, 0}},  // ... and bottom
@@ -170,13 +171,15 @@ TEST(SolverFurnace, ClutteredFurnaceAtDefaults) {
     const std::vector<Rgb> e = s.probe_irradiance(probes);
     double mean = 0, worst = 0;
     for (std::size_t i = 0; i < e.size(); ++i) {
-      EXPECT_NEAR(e[i][0], exact, (rho < 0.7 ? 0.03 : 0.05) * exact) << "probe " << i << " rho " << rho;
+      EXPECT_NEAR(e[i][0], exact, (rho < 0.7 ? 0.03 : 0.05) * exact)
+          << "probe " << i << " rho " << rho;
       mean += e[i][0] / static_cast<double>(e.size());
       if (std::abs(e[i][0] / exact - 1) > std::abs(worst)) worst = e[i][0] / exact - 1;
     }
     EXPECT_NEAR(mean, exact, 0.015 * exact) << "rho " << rho;
-    std::printf("cluttered furnace rho %.1f: mean probe irradiance %.4f (exact %.4f), worst %+.2f %%\n",
-                rho, mean, exact, 100 * worst);
+    std::printf(
+        "cluttered furnace rho %.1f: mean probe irradiance %.4f (exact %.4f), worst %+.2f %%\n",
+        rho, mean, exact, 100 * worst);
   }
 }
 
@@ -255,7 +258,7 @@ TEST(SolverHardCases, EmitterCloseToReceiverStaysBounded) {
     SceneBuilder b("close", "test");
     const auto floor = b.add_material(test::material(0.0, 0.0), {"t", 0});
     const auto lamp = b.add_material(test::material(0.0, 1.0), {"t", 0});
-    const std::vector<Vec3> f = {{0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}};  // faces +y
+    const std::vector<Vec3> f = {{0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}};          // faces +y
     const std::vector<Vec3> l = {{0, gap, 0}, {0, gap, -1}, {1, gap, -1}, {1, gap, 0}};  // faces -y
     b.add_polygon(f, floor, {"t", 0});
     b.add_polygon(l, lamp, {"t", 0});
@@ -332,8 +335,9 @@ TEST(SolverLightLeak, DarkRoomStaysDark) {
   // The dividing wall at x = 1, one face into each room.
   b.add_polygon(std::vector<Vec3>{{1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}}, white, at);  // -x
   b.add_polygon(std::vector<Vec3>{{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}, white, at);  // +x
-  b.add_polygon(std::vector<Vec3>{{0.4, 0.99, 0.4}, {0.6, 0.99, 0.4}, {0.6, 0.99, 0.6},
-                                  {0.4, 0.99, 0.6}}, lamp, at);
+  b.add_polygon(
+      std::vector<Vec3>{{0.4, 0.99, 0.4}, {0.6, 0.99, 0.4}, {0.6, 0.99, 0.6}, {0.4, 0.99, 0.6}},
+      lamp, at);
   const Scene scene = b.finish("t");
   SolverOptions o;
   Solver s(scene, o);
@@ -424,12 +428,14 @@ TEST(SolverClusterReceiver, CosineRedistributesButConservesGatheredPower) {
     double power = 0;
     for (const auto& l : *leaves) {
       const Material& m = scene.materials[scene.faces[l.face].material];
-      if (m.reflectance[1] > 0) power += l.area * (l.radiosity[1] - m.emission[1]) / m.reflectance[1];
+      if (m.reflectance[1] > 0)
+        power += l.area * (l.radiosity[1] - m.emission[1]) / m.reflectance[1];
     }
     return power;
   };
   std::vector<Solver::Leaf> iso, cos;
-  const double p_iso = gathered(ClusterReceiver::Isotropic, &iso), p_cos = gathered(ClusterReceiver::Cosine, &cos);
+  const double p_iso = gathered(ClusterReceiver::Isotropic, &iso),
+               p_cos = gathered(ClusterReceiver::Cosine, &cos);
   EXPECT_GT(p_iso, 0);
   // Equal up to the single precision of the clusters' directional areas (float in
   // the links' form factors, summed in double over the open members by the gather).
@@ -469,8 +475,8 @@ namespace {
 // 1.0 %). The tolerance, 3.5 %, leaves room for the reference's noise and for small
 // changes elsewhere, and fails on the old bias by a wide margin.
 TEST(SolverAccuracy, OfficeAtDefaultsIsNotDark) {
-  const std::string csv =
-      test::read_text(std::string(HRAD_SOURCE_DIR) + "/docs/figures/accuracy-time/reference-builtin_office.csv");
+  const std::string csv = test::read_text(
+      std::string(HRAD_SOURCE_DIR) + "/docs/figures/accuracy-time/reference-builtin_office.csv");
   ASSERT_FALSE(csv.empty());
   std::vector<Probe> probes;
   std::vector<double> ref;
@@ -507,7 +513,6 @@ TEST(SolverAccuracy, OfficeAtDefaultsIsNotDark) {
   EXPECT_LT(std::abs(bias), 0.035) << "signed mean relative error";
   EXPECT_LT(median, 0.04) << "median relative error";
 }
-
 
 // An interrupt (core/base/interrupt.h) unwinds a run at its first safe point, with two
 // refiners as with one, and leaves nothing that stops the next run.

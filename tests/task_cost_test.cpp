@@ -30,10 +30,10 @@ TEST(TaskCost, WarnsWhenTheMedianAtPThreadsExceedsTheRatio) {
 TEST(TaskCost, ComparesOnlyRunsThatDifferInThreadsAlone) {
   TaskCostTable t;
   t.add("builtin:office", with(1, 10), 100);
-  t.add("builtin:office", with(2, 100), 500);            // other block size: no 1-thread run
-  t.add("builtin:lab", with(2, 10), 500);                // other scene: no 1-thread run
+  t.add("builtin:office", with(2, 100), 500);             // other block size: no 1-thread run
+  t.add("builtin:lab", with(2, 10), 500);                 // other scene: no 1-thread run
   t.add("builtin:office", with(2, 10, "stealing"), 500);  // other scheduler
-  t.add("builtin:office", with(2, 10), 0);               // no tasks: ignored
+  t.add("builtin:office", with(2, 10), 0);                // no tasks: ignored
   EXPECT_TRUE(t.warnings(1.2).empty());
   t.add("builtin:lab", with(1, 10), 100);
   EXPECT_EQ(t.warnings(1.2).size(), 1u);

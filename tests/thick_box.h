@@ -46,8 +46,7 @@ inline std::pair<std::string, std::string> thick_box_obj() {
          std::to_string(y) + " 6\nv 4 " + std::to_string(y) + " 6\n";
   faces += "usemtl light\nf " + std::to_string(vertices + 1) + " " + std::to_string(vertices + 2) +
            " " + std::to_string(vertices + 3) + " " + std::to_string(vertices + 4) + "\n";
-  const std::string mtl =
-      "newmtl white\nKd 0.7 0.7 0.7\nnewmtl light\nKd 0 0 0\nKe 10 10 10\n";
+  const std::string mtl = "newmtl white\nKd 0.7 0.7 0.7\nnewmtl light\nKd 0 0 0\nKe 10 10 10\n";
   return {obj + faces, mtl};
 }
 

@@ -2,9 +2,9 @@
 // acquisition that finds the mutex free adds exactly nothing; one that has to wait adds
 // its wait (more than 0, at most the time the call took) and counts one contention, on
 // the waiting worker's counter only.
+#include "core/parallel/timed_lock.h"
 #include "core/base/clock.h"
 #include "core/parallel/lock_pool.h"
-#include "core/parallel/timed_lock.h"
 
 #include <gtest/gtest.h>
 

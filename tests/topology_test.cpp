@@ -79,8 +79,7 @@ TEST(Topology, FormatWithoutPackageLevel) {
   t.nodes.push_back({0, -1, 1, 1, "0", 0});
   const std::string s = format_topology(t);
   EXPECT_NE(s.find("0 packages, 1 NUMA node, 1 core, 1 PU "), std::string::npos) << s;
-  EXPECT_NE(s.find("  NUMA node 0: 1 core, 1 PU (cpus 0), memory unknown"), std::string::npos)
-      << s;
+  EXPECT_NE(s.find("  NUMA node 0: 1 core, 1 PU (cpus 0), memory unknown"), std::string::npos) << s;
 }
 
 }  // namespace

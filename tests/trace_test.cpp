@@ -56,7 +56,8 @@ TEST(Trace, RecordsEveryTaskAndItsChildrenExactlyOnce) {
   EXPECT_EQ(block_starts, takes);
   EXPECT_EQ(initial[1], 1u) << "iteration 1 starts from the root-root link";
   for (int it = 2; it <= o.iterations; ++it)
-    EXPECT_EQ(initial[static_cast<std::size_t>(it)], st.iterations[static_cast<std::size_t>(it - 2)].links);
+    EXPECT_EQ(initial[static_cast<std::size_t>(it)],
+              st.iterations[static_cast<std::size_t>(it - 2)].links);
 
   std::unordered_set<std::uint64_t> children;
   for (const TraceRecord& r : records) {

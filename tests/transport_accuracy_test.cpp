@@ -72,9 +72,9 @@ TEST(TransportAccuracy, VisibilityIsTheOccludedShareOfTheTransport) {
     return sum / seeds;
   };
   const double fv4 = mean_fv(4), fv16 = mean_fv(16);
-  std::cout << "F(floor->wall) " << f_all << ", exact F V " << f_lower << ", mean estimate "
-            << fv4 << " with 4 rays (" << fv4 / f_lower << " of exact), " << fv16
-            << " with 16 (" << fv16 / f_lower << ")\n";
+  std::cout << "F(floor->wall) " << f_all << ", exact F V " << f_lower << ", mean estimate " << fv4
+            << " with 4 rays (" << fv4 / f_lower << " of exact), " << fv16 << " with 16 ("
+            << fv16 / f_lower << ")\n";
   // The estimate is a ratio of kernel-weighted sums, which keeps a bias that falls
   // only slowly with the ray count (the kernel is heavy-tailed near the wall's foot):
   // measured -8.4 % with 4 rays (the default) and -7.1 % with 16 here, where the
@@ -141,8 +141,8 @@ TEST(TransportAccuracy, ClusterFormFactorMatchesTheMembers) {
     ASSERT_EQ(t.classify(c0, c1), PairClass::Regular) << ratio;
     const double exact = exact_cluster_ff(scene, c0, c1);
     const double f = t.form_factor(c0, c1);
-    std::cout << "d / (r_r + r_s) = " << ratio << ": cluster F " << f << ", members' sum "
-              << exact << " (" << f / exact << ")\n";
+    std::cout << "d / (r_r + r_s) = " << ratio << ": cluster F " << f << ", members' sum " << exact
+              << " (" << f / exact << ")\n";
     EXPECT_NEAR(f, exact, 0.06 * exact) << ratio;
     // Reciprocity holds for the exact sums (equal areas): so must it, to the same
     // tolerance, for the estimate.

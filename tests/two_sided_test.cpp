@@ -96,9 +96,9 @@ TEST(BackFaces, MgfSidesReachTheMaterials) {
   EXPECT_TRUE(parse_mgf("m g =\n rd 0.5\n" + quad, "t.mgf").materials[0].two_sided);  // default
   EXPECT_FALSE(parse_mgf("m g =\n rd 0.5\n sides 1\n" + quad, "t.mgf").materials[0].two_sided);
   // The same colours with different sides are two materials.
-  const Scene s = parse_mgf("m g =\n rd 0.5\n" + quad + "m g =\n rd 0.5\n sides 1\n" +
-                                "v e =\n p 0 0 1\nf e b c\n",
-                            "t.mgf");
+  const Scene s = parse_mgf(
+      "m g =\n rd 0.5\n" + quad + "m g =\n rd 0.5\n sides 1\n" + "v e =\n p 0 0 1\nf e b c\n",
+      "t.mgf");
   ASSERT_EQ(s.faces.size(), 2u);
   EXPECT_NE(s.faces[0].material, s.faces[1].material);
   EXPECT_NE(s.face_material(0).two_sided, s.face_material(1).two_sided);
@@ -146,11 +146,11 @@ TEST(FaceTwins, RaysMeetTheFrontOfTheSideTheyComeFrom) {
 std::vector<Probe> plate_probes() {
   const double d = 1e-6;
   return {
-      {{0.5, 0.5, d}, {0, 0, 1}},         // 0: left floor: H = 2 (furnace)
-      {{1 - d, 0.5, 0.5}, {-1, 0, 0}},    // 1: plate front: H = 2
-      {{1 + d, 0.5, 0.5}, {1, 0, 0}},     // 2: plate back: H = 0 (black walls)
-      {{2 - d, 0.5, 0.5}, {-1, 0, 0}},    // 3: right wall centre: F(unit square at 1) B_back
-      {{1.5, 0.5, d}, {0, 0, 1}},         // 4: right floor: lit by the plate's back only
+      {{0.5, 0.5, d}, {0, 0, 1}},       // 0: left floor: H = 2 (furnace)
+      {{1 - d, 0.5, 0.5}, {-1, 0, 0}},  // 1: plate front: H = 2
+      {{1 + d, 0.5, 0.5}, {1, 0, 0}},   // 2: plate back: H = 0 (black walls)
+      {{2 - d, 0.5, 0.5}, {-1, 0, 0}},  // 3: right wall centre: F(unit square at 1) B_back
+      {{1.5, 0.5, d}, {0, 0, 1}},       // 4: right floor: lit by the plate's back only
   };
 }
 

@@ -26,10 +26,9 @@ namespace {
 /// triangulated inside RayScene) beside it, and a small upright wall (face 2) that
 /// crosses the quad's diagonal.
 struct Floor {
-  std::vector<Vec3> v{{-50, -50, 0},  {50, -50, 0},   {50, 50, 0},    {-50, 50, 0},
-                      {60, -50, 0},   {160, -50, 0},  {170, 0, 0},    {160, 50, 0},
-                      {60, 50, 0},    {-1, 1, -1},    {1, -1, -1},    {1, -1, 1},
-                      {-1, 1, 1}};
+  std::vector<Vec3> v{{-50, -50, 0}, {50, -50, 0}, {50, 50, 0},  {-50, 50, 0}, {60, -50, 0},
+                      {160, -50, 0}, {170, 0, 0},  {160, 50, 0}, {60, 50, 0},  {-1, 1, -1},
+                      {1, -1, -1},   {1, -1, 1},   {-1, 1, 1}};
   std::vector<std::uint32_t> idx{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
   std::vector<PolygonRange> polys{{0, 4}, {4, 5}, {9, 4}};
   /// A rotation about an oblique axis, so that the polygons' float vertices are not
@@ -67,8 +66,8 @@ TEST(VisibilityGrazing, SegmentSkimmingItsOwnPolygonIsUnblockedWhenIgnored) {
   }
   // Without the ignored polygon, Embree reports some of these blocked (300 of 20,000
   // with Embree 3.13.5); that count is printed, not checked.
-  std::cout << "grazing segments reported blocked by their own polygon: " << wrong_plain
-            << " of " << n << " without ignoring it, " << wrong_ignored << " when ignored\n";
+  std::cout << "grazing segments reported blocked by their own polygon: " << wrong_plain << " of "
+            << n << " without ignoring it, " << wrong_ignored << " when ignored\n";
   EXPECT_EQ(wrong_ignored, 0);
 }
 
@@ -116,8 +115,9 @@ int expect_clear_pairs_unblocked(const Hierarchy& h, const std::vector<Element*>
       for (std::uint64_t k = 0; k < 16; ++k) {
         const Vec3 a = h.sample_point(r, hashed_uniform(key, 6 * k), hashed_uniform(key, 6 * k + 1),
                                       hashed_uniform(key, 6 * k + 2), &s.center);
-        const Vec3 b = h.sample_point(s, hashed_uniform(key, 6 * k + 3), hashed_uniform(key, 6 * k + 4),
-                                      hashed_uniform(key, 6 * k + 5), &r.center);
+        const Vec3 b =
+            h.sample_point(s, hashed_uniform(key, 6 * k + 3), hashed_uniform(key, 6 * k + 4),
+                           hashed_uniform(key, 6 * k + 5), &r.center);
         if (rays.occluded(a, b)) {
           ++blocked_plain;
           break;

@@ -90,8 +90,7 @@ TEST(DequeSingle, BatchPopNewestFirst) {
   EXPECT_EQ(out, (std::vector<int>{9, 8, 7, 6}));
   out.assign(100, -1);
   ASSERT_EQ(d.pop(std::span<int>(out)), 6u);  // asks for more than there is
-  EXPECT_EQ(std::vector<int>(out.begin(), out.begin() + 6),
-            (std::vector<int>{5, 4, 3, 2, 1, 0}));
+  EXPECT_EQ(std::vector<int>(out.begin(), out.begin() + 6), (std::vector<int>{5, 4, 3, 2, 1, 0}));
   EXPECT_EQ(d.pop(std::span<int>(out)), 0u);
   d.push(42);
   EXPECT_EQ(d.pop(), 42);
@@ -213,7 +212,10 @@ void owner_and_thieves(std::uint64_t n, std::uint32_t seed, Encode encode, Decod
     const std::uint64_t m = std::min<std::uint64_t>(n - next, 1 + rng() % 4);
     batch.clear();
     for (std::uint64_t i = 0; i < m; ++i) batch.push_back(encode(next++));
-    if (m == 1) d.push(batch[0]); else d.push(std::span<const T>(batch));
+    if (m == 1)
+      d.push(batch[0]);
+    else
+      d.push(std::span<const T>(batch));
     if (rng() % 3 == 0) {
       const std::size_t want = 1 + rng() % out.size();
       const std::size_t k = d.pop(std::span<T>(out.data(), want));

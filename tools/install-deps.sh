@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libembree-dev libhwloc-dev hwloc libeigen3-dev libcli11-dev nlohmann-json3-dev
   libtinyobjloader-dev libstb-dev libfmt-dev libgtest-dev libbenchmark-dev
-  clang libomp-14-dev libclang-rt-14-dev
+  clang clang-format-14 libomp-14-dev libclang-rt-14-dev
   libopenmpi-dev openmpi-bin
   python3 python3-matplotlib python3-numpy
 )

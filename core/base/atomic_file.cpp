@@ -28,8 +28,7 @@ void write_file_atomically(const std::filesystem::path& path,
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     // Errors name the file the user asked for, and say why (the temporary name is
     // an implementation detail).
-    if (!out)
-      throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), reason()));
+    if (!out) throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), reason()));
     try {
       write(out);
     } catch (...) {

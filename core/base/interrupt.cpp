@@ -40,8 +40,9 @@ bool interrupted() { return g_signal.load(std::memory_order_relaxed) != 0; }
 int interrupt_signal() { return g_signal.load(std::memory_order_relaxed); }
 
 Interrupted::Interrupted(int signal)
-    : std::runtime_error(std::string("interrupted by ") +
-                         (signal == SIGTERM ? "SIGTERM" : signal == SIGINT ? "SIGINT" : "a signal")),
+    : std::runtime_error(std::string("interrupted by ") + (signal == SIGTERM  ? "SIGTERM"
+                                                           : signal == SIGINT ? "SIGINT"
+                                                                              : "a signal")),
       signal_(signal) {}
 
 void throw_if_interrupted() {

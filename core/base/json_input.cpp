@@ -26,7 +26,8 @@ void check_json_depth(std::string_view text, const std::string& source, bool com
       continue;
     }
     if (comments && c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
-      for (i += 2; i < text.size() && !(text[i] == '*' && i + 1 < text.size() && text[i + 1] == '/'); ++i)
+      for (i += 2;
+           i < text.size() && !(text[i] == '*' && i + 1 < text.size() && text[i + 1] == '/'); ++i)
         if (text[i] == '\n') ++line;
       ++i;
       continue;
@@ -34,8 +35,10 @@ void check_json_depth(std::string_view text, const std::string& source, bool com
     if (c == '"') {
       const std::size_t start = ++i;
       for (; i < text.size() && text[i] != '"'; ++i) {
-        if (text[i] == '\\') ++i;  // the escaped character does not end the string
-        else if (text[i] == '\n') ++line;
+        if (text[i] == '\\')
+          ++i;  // the escaped character does not end the string
+        else if (text[i] == '\n')
+          ++line;
       }
       last_string = text.substr(start, std::min(i, text.size()) - start);
     } else if (c == ':') {
@@ -44,8 +47,8 @@ void check_json_depth(std::string_view text, const std::string& source, bool com
                                                 source, line, brief_text(last_string)));
     } else if (c == '[' || c == '{') {
       if (static_cast<int>(open.size()) >= kMaxJsonDepth)
-        throw std::invalid_argument(fmt::format("{}:{}: JSON nested deeper than {} levels",
-                                                source, line, kMaxJsonDepth));
+        throw std::invalid_argument(
+            fmt::format("{}:{}: JSON nested deeper than {} levels", source, line, kMaxJsonDepth));
       open.push_back(Level{c == '{', {}});
     } else if ((c == ']' || c == '}') && !open.empty()) {
       open.pop_back();

@@ -62,9 +62,10 @@ bool is_convex_enclosure(const Scene& scene, std::string* why) {
   for (const std::vector<std::uint32_t>* candidates : {&probes, &used}) {
     if (candidates == &used && !full_pass) {
       if (why)
-        *why = fmt::format("no polygon found in front of another by a quick test, and {} "
-                           "polygons x {} vertices is too many to prove the scene convex",
-                           scene.faces.size(), used.size());
+        *why = fmt::format(
+            "no polygon found in front of another by a quick test, and {} "
+            "polygons x {} vertices is too many to prove the scene convex",
+            scene.faces.size(), used.size());
       return false;
     }
     for (std::size_t f = 0; f < scene.faces.size(); ++f) {
@@ -81,9 +82,10 @@ bool is_convex_enclosure(const Scene& scene, std::string* why) {
         if (n.dot(scene.vertices[v] - c) >= -tol) continue;
         if (std::find(own.begin(), own.end(), v) != own.end()) continue;
         if (why)
-          *why = fmt::format("vertex {} lies behind the plane of polygon {}: polygons may block "
-                             "each other",
-                             v, f);
+          *why = fmt::format(
+              "vertex {} lies behind the plane of polygon {}: polygons may block "
+              "each other",
+              v, f);
         return false;
       }
     }
@@ -96,9 +98,8 @@ Effects analyse_effects(const Scene& scene, const SolverOptions& options) {
   const std::vector<const Material*> mats = used_materials(scene);
   Effects e;
 
-  const auto reflecting = std::find_if(mats.begin(), mats.end(), [](const Material* m) {
-    return (m->reflectance > 0).any();
-  });
+  const auto reflecting = std::find_if(
+      mats.begin(), mats.end(), [](const Material* m) { return (m->reflectance > 0).any(); });
   const bool black = reflecting == mats.end();
   if (options.visibility_rays == 0) {
     e.visibility = {false, "visibility_rays = 0: every pair counts as unblocked"};
@@ -124,9 +125,9 @@ Effects analyse_effects(const Scene& scene, const SolverOptions& options) {
                          "every reflectance is 0: nothing is reflected, so one gather sweep per "
                          "iteration gives B = E exactly"};
   } else {
-    e.interreflection = {true, fmt::format("material '{}' reflects (largest channel {})",
-                                           (*reflecting)->name,
-                                           (*reflecting)->reflectance.maxCoeff())};
+    e.interreflection = {
+        true, fmt::format("material '{}' reflects (largest channel {})", (*reflecting)->name,
+                          (*reflecting)->reflectance.maxCoeff())};
   }
 
   const auto coloured = std::find_if(mats.begin(), mats.end(), [](const Material* m) {

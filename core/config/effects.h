@@ -63,7 +63,6 @@ struct Effects {
   }
 };
 
-
 /// Relative tolerance (of the scene's bounding-box diagonal) within which a vertex
 /// counts as on a plane in the convexity test.
 inline constexpr double kConvexTolerance = 1e-9;

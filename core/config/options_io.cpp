@@ -20,11 +20,10 @@ namespace {
 using S = SolverOptions;
 // One alternative per field type; a mode (an enum with a table of names,
 // core/base/enum_names.h) is written and read as its name.
-using Member =
-    std::variant<int S::*, std::uint64_t S::*, double S::*, std::string S::*, PinPolicy S::*,
-                 MemBind S::*, PoolOrder S::*, ClusterModel S::*, ClusterReceiver S::*,
-                 RowSumMode S::*, EffectsMode S::*, ShaftCulling S::*, DecisionRays S::*,
-                 Sides S::*, Shading S::*>;
+using Member = std::variant<int S::*, std::uint64_t S::*, double S::*, std::string S::*,
+                            PinPolicy S::*, MemBind S::*, PoolOrder S::*, ClusterModel S::*,
+                            ClusterReceiver S::*, RowSumMode S::*, EffectsMode S::*,
+                            ShaftCulling S::*, DecisionRays S::*, Sides S::*, Shading S::*>;
 
 template <class T>
 constexpr bool kIsMode = std::is_enum_v<T>;
@@ -294,10 +293,9 @@ void check_syntax(const Row& r, const T& value, std::string_view source) {
     } catch (const std::invalid_argument& e) {
       // With a source, the style of the type errors; without, that of the range errors.
       throw std::invalid_argument(
-          source.empty()
-              ? fmt::format("option {} = '{}': {}", r.name, brief_text(value), e.what())
-              : fmt::format("{}: option '{}' = '{}': {}", source, r.name, brief_text(value),
-                            e.what()));
+          source.empty() ? fmt::format("option {} = '{}': {}", r.name, brief_text(value), e.what())
+                         : fmt::format("{}: option '{}' = '{}': {}", source, r.name,
+                                       brief_text(value), e.what()));
     }
   }
 }
@@ -330,7 +328,8 @@ const std::vector<OptionInfo>& option_table() {
       std::string params;
       for (const PluginRow& p : plugin_rows())
         if (p.kind == r.name)
-          params += fmt::format("{}{}.{}", params.empty() ? "" : "; ", p.plugin, describe_param(p.spec));
+          params +=
+              fmt::format("{}{}.{}", params.empty() ? "" : "; ", p.plugin, describe_param(p.spec));
       if (!params.empty())
         help += fmt::format("; parameters (--set {}.NAME.KEY=VALUE): {}", r.name, params);
       const std::string modes = choices_help(r.member);
@@ -388,8 +387,9 @@ std::string option_value_string(const SolverOptions& o, std::string_view key) {
     if (!p) unknown_key("option_value_string", key);
     if (selected(o, *p) != p->plugin) return "";
     const auto it = o.plugin_params.find(p->key);
-    return it != o.plugin_params.end() ? it->second
-                                       : check_param_value(p->spec, fmt::format("{}", p->spec.fallback), p->key);
+    return it != o.plugin_params.end()
+               ? it->second
+               : check_param_value(p->spec, fmt::format("{}", p->spec.fallback), p->key);
   }
   return std::visit(
       [&](auto member) -> std::string {
@@ -407,9 +407,9 @@ std::string option_value_string(const SolverOptions& o, std::string_view key) {
 
 void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::string& source) {
   if (!j.is_object())
-    throw std::invalid_argument(fmt::format(
-        "{}: the configuration must be a JSON object of option keys, not a {}", source,
-        j.type_name()));
+    throw std::invalid_argument(
+        fmt::format("{}: the configuration must be a JSON object of option keys, not a {}", source,
+                    j.type_name()));
   for (const auto& item : j.items()) {
     // Named references, not a structured binding: clang 14 cannot capture those.
     const std::string& key = item.key();
@@ -428,9 +428,9 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
         [&](auto member) {
           auto parsed = o.*member;
           if (!from_json_value(value, parsed))
-            throw std::invalid_argument(
-                fmt::format("{}: option '{}' expects {}, got {} {}", source, key,
-                            expected<decltype(parsed)>(*r), value.type_name(), brief_json(value)));
+            throw std::invalid_argument(fmt::format("{}: option '{}' expects {}, got {} {}", source,
+                                                    key, expected<decltype(parsed)>(*r),
+                                                    value.type_name(), brief_json(value)));
           check_syntax(*r, parsed, source);
           o.*member = parsed;
         },
@@ -463,8 +463,8 @@ void apply_option_value(SolverOptions& o, std::string_view key, std::string_view
 void apply_option_assignment(SolverOptions& o, const std::string& key_eq_value) {
   const auto eq = key_eq_value.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw std::invalid_argument(fmt::format(
-        "--set {}: expected key=value (valid keys: {})", key_eq_value, option_key_list()));
+    throw std::invalid_argument(fmt::format("--set {}: expected key=value (valid keys: {})",
+                                            key_eq_value, option_key_list()));
   apply_option_value(o, std::string_view(key_eq_value).substr(0, eq),
                      std::string_view(key_eq_value).substr(eq + 1), "--set " + key_eq_value);
 }
@@ -488,8 +488,8 @@ void validate_options(const SolverOptions& o) {
   check(o.locks_pool >= 0, "locks_pool", str(o.locks_pool), ">= 0 (0: automatic)");
   check(o.image_width >= 8 && o.image_width <= 16384, "image_width", str(o.image_width),
         "between 8 and 16384");
-  check(o.segments == 0 || (o.segments >= 3 && o.segments <= 4096), "segments",
-        str(o.segments), "0 (automatic) or between 3 and 4096");
+  check(o.segments == 0 || (o.segments >= 3 && o.segments <= 4096), "segments", str(o.segments),
+        "0 (automatic) or between 3 and 4096");
   check(std::isfinite(o.exposure) && std::abs(o.exposure) <= 64, "exposure", str(o.exposure),
         "a number of stops between -64 and 64");
   for (const Row& r : rows())
@@ -499,7 +499,8 @@ void validate_options(const SolverOptions& o) {
   for (const auto& [key, value] : o.plugin_params) {
     const PluginRow* p = find_plugin_row(key);
     if (!p)
-      throw std::invalid_argument(fmt::format("option {}: no scheduler or oracle declares it", key));
+      throw std::invalid_argument(
+          fmt::format("option {}: no scheduler or oracle declares it", key));
     (void)check_param_value(p->spec, value, fmt::format("option {}", key));
     if (selected(o, *p) != p->plugin)
       throw std::invalid_argument(fmt::format(
@@ -517,8 +518,6 @@ ParamValues plugin_params_of(const SolverOptions& o, std::string_view kind) {
   return out;
 }
 
-SceneLoadOptions scene_load_options(const SolverOptions& o) {
-  return {o.sides, o.segments};
-}
+SceneLoadOptions scene_load_options(const SolverOptions& o) { return {o.sides, o.segments}; }
 
 }  // namespace hrad

@@ -20,8 +20,8 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <memory>
 #include <cstdint>
+#include <memory>
 #include <span>
 
 namespace hrad {
@@ -36,11 +36,11 @@ struct Element {
   std::atomic<Element*> children{nullptr};  ///< contiguous block of child_count
   std::uint32_t child_count = 0;            ///< valid once children is non-null
   ElementKind kind = ElementKind::Surface;
-  std::uint8_t depth = 0;       ///< levels below the input polygon (surfaces) or root
-  std::uint16_t nverts = 0;     ///< surfaces: 3, 4, or more (then corners live in ngon)
-  std::uint32_t face = 0;       ///< surfaces: input polygon; clusters: first in face order
-  std::uint32_t face_end = 0;   ///< clusters: one past the last in face order
-  std::uint32_t material = 0;   ///< surfaces only
+  std::uint8_t depth = 0;      ///< levels below the input polygon (surfaces) or root
+  std::uint16_t nverts = 0;    ///< surfaces: 3, 4, or more (then corners live in ngon)
+  std::uint32_t face = 0;      ///< surfaces: input polygon; clusters: first in face order
+  std::uint32_t face_end = 0;  ///< clusters: one past the last in face order
+  std::uint32_t material = 0;  ///< surfaces only
   /// Leaves: factor applied to the gathered irradiance (row-sum correction, see
   /// core/solver/row_sums.h; 1 when off). escape: fraction of the hemisphere above the
   /// element that sees no geometry, estimated by rays (negative until estimated).
@@ -55,21 +55,21 @@ struct Element {
   /// Surface children of surface elements: the share of the parent's irradiance this
   /// element receives, relative to the parent's mean (core/solver/push_weights.h); 1 elsewhere.
   float push_weight = 1;
-  double area = 0;              ///< surface area (clusters: total of member polygons)
-  Vec3 corner[4];               ///< surfaces with nverts <= 4
-  const Vec3* ngon = nullptr;   ///< surfaces with nverts > 4 (top-level polygon only)
-  Vec3 normal = Vec3::Zero();   ///< surfaces: unit normal; clusters: zero
-  Vec3 center = Vec3::Zero();   ///< surfaces: centroid; clusters: area-weighted centroid
-  Aabb box;                     ///< bounds (surfaces too)
+  double area = 0;             ///< surface area (clusters: total of member polygons)
+  Vec3 corner[4];              ///< surfaces with nverts <= 4
+  const Vec3* ngon = nullptr;  ///< surfaces with nverts > 4 (top-level polygon only)
+  Vec3 normal = Vec3::Zero();  ///< surfaces: unit normal; clusters: zero
+  Vec3 center = Vec3::Zero();  ///< surfaces: centroid; clusters: area-weighted centroid
+  Aabb box;                    ///< bounds (surfaces too)
   /// Clusters: member areas split by axis direction +x,-x,+y,-y,+z,-z (add_by_axis);
   /// the directional cluster model's projected area is sum_i |d_i| dir_area[axis i, sign].
   std::array<float, 6> dir_area{};
-  Rgb rho = Rgb::Zero();        ///< reflectance (clusters: area-weighted average)
-  Rgb emission = Rgb::Zero();   ///< exitance E (clusters: area-weighted average)
-  Rgb B = Rgb::Zero();          ///< radiosity, frozen during refinement
-  Rgb gathered = Rgb::Zero();   ///< irradiance gathered over this element's own links
-  Rgb next = Rgb::Zero();       ///< scratch for the Jacobi update
-  LinkList links;               ///< links where this element is the receiver (core/hierarchy/link_list.h)
+  Rgb rho = Rgb::Zero();       ///< reflectance (clusters: area-weighted average)
+  Rgb emission = Rgb::Zero();  ///< exitance E (clusters: area-weighted average)
+  Rgb B = Rgb::Zero();         ///< radiosity, frozen during refinement
+  Rgb gathered = Rgb::Zero();  ///< irradiance gathered over this element's own links
+  Rgb next = Rgb::Zero();      ///< scratch for the Jacobi update
+  LinkList links;  ///< links where this element is the receiver (core/hierarchy/link_list.h)
   /// Clusters: the propagation's directional state (below); allocated by it.
   std::unique_ptr<ClusterLight> light;
   /// The element's position in the list the last propagation was given (its gather
@@ -90,7 +90,8 @@ struct Element {
     if (!is_cluster()) return area * std::max(0.0, normal.dot(d));
     double p = 0;
     for (int i = 0; i < 3; ++i)
-      p += std::abs(d[i]) * static_cast<double>(dir_area[static_cast<std::size_t>(2 * i + (d[i] < 0))]);
+      p += std::abs(d[i]) *
+           static_cast<double>(dir_area[static_cast<std::size_t>(2 * i + (d[i] < 0))]);
     return p;
   }
   /// Radius of the bounding sphere around `center` (a cheap size for near-field tests).
@@ -118,7 +119,8 @@ struct ClusterLight {
   /// The members' open area projected along d: sum_i |d_i| open_area (times |d|).
   [[nodiscard]] double projected_open_area(const Vec3& d) const {
     double a = 0;
-    for (int i = 0; i < 3; ++i) a += std::abs(d[i]) * open_area[static_cast<std::size_t>(2 * i + (d[i] < 0))];
+    for (int i = 0; i < 3; ++i)
+      a += std::abs(d[i]) * open_area[static_cast<std::size_t>(2 * i + (d[i] < 0))];
     return a;
   }
   /// The radiosity this cluster shows along the direction d (of any non-zero length:
@@ -127,7 +129,8 @@ struct ClusterLight {
   [[nodiscard]] Rgb radiosity_towards(const Vec3& d, const Rgb& mean) const {
     if (!leaving_made) return mean;
     Rgb p = Rgb::Zero();
-    for (int i = 0; i < 3; ++i) p += std::abs(d[i]) * leaving[static_cast<std::size_t>(2 * i + (d[i] < 0))];
+    for (int i = 0; i < 3; ++i)
+      p += std::abs(d[i]) * leaving[static_cast<std::size_t>(2 * i + (d[i] < 0))];
     const double a = projected_open_area(d);
     return a > 0 ? Rgb(p / a) : mean;
   }

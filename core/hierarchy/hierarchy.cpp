@@ -79,7 +79,8 @@ void Hierarchy::init_surface(Element& e, std::uint32_t face, Element* parent, st
   e.material = f.material;
   e.nverts = static_cast<std::uint16_t>(f.count);
   if (f.count <= 4) {
-    for (std::uint32_t i = 0; i < f.count; ++i) e.corner[i] = scene_.vertices[scene_.indices[f.first + i]];
+    for (std::uint32_t i = 0; i < f.count; ++i)
+      e.corner[i] = scene_.vertices[scene_.indices[f.first + i]];
   } else {
     const std::size_t at = ngon_store_.size();
     for (std::uint32_t i = 0; i < f.count; ++i)
@@ -110,7 +111,8 @@ void Hierarchy::build_cluster(Element& c, std::uint32_t begin, std::uint32_t end
   }
   if (n <= kClusterLeafSize) {
     Element* kids = allocate(n, 0);
-    for (std::uint32_t i = 0; i < n; ++i) init_surface(kids[i], order_[begin + i], &c, child_id(c.id, i));
+    for (std::uint32_t i = 0; i < n; ++i)
+      init_surface(kids[i], order_[begin + i], &c, child_id(c.id, i));
     c.child_count = n;
     c.children.store(kids, std::memory_order_release);
     finish_cluster(c);
@@ -192,7 +194,10 @@ std::span<Element> Hierarchy::subdivide(Element& e, int worker, LockPool& locks)
   std::vector<int> counts;
   if (k == 3) {
     const Vec3 ab = 0.5 * (c[0] + c[1]), bc = 0.5 * (c[1] + c[2]), ca = 0.5 * (c[2] + c[0]);
-    shapes = {{c[0], ab, ca, Vec3::Zero()}, {ab, c[1], bc, Vec3::Zero()}, {ca, bc, c[2], Vec3::Zero()}, {ab, bc, ca, Vec3::Zero()}};
+    shapes = {{c[0], ab, ca, Vec3::Zero()},
+              {ab, c[1], bc, Vec3::Zero()},
+              {ca, bc, c[2], Vec3::Zero()},
+              {ab, bc, ca, Vec3::Zero()}};
     counts = {3, 3, 3, 3};
   } else {
     // One quad per corner: corner, next edge midpoint, centre, previous edge midpoint.
@@ -236,12 +241,15 @@ std::span<Element> Hierarchy::subdivide(Element& e, int worker, LockPool& locks)
 
 Vec3 Hierarchy::sample_face(std::uint32_t face, double u1, double u2, double u3) const {
   const Face& f = scene_.faces[face];
-  auto v = [&](std::uint32_t i) -> const Vec3& { return scene_.vertices[scene_.indices[f.first + i]]; };
+  auto v = [&](std::uint32_t i) -> const Vec3& {
+    return scene_.vertices[scene_.indices[f.first + i]];
+  };
   // Fan triangle chosen by area with u3, then a uniform point in it.
   std::uint32_t tri = 1;
   if (f.count > 3) {
     double total = 0;
-    for (std::uint32_t i = 1; i + 1 < f.count; ++i) total += (v(i) - v(0)).cross(v(i + 1) - v(0)).norm();
+    for (std::uint32_t i = 1; i + 1 < f.count; ++i)
+      total += (v(i) - v(0)).cross(v(i + 1) - v(0)).norm();
     double target = u3 * total;
     for (tri = 1; tri + 2 < f.count; ++tri) {
       target -= (v(tri) - v(0)).cross(v(tri + 1) - v(0)).norm();
@@ -252,8 +260,8 @@ Vec3 Hierarchy::sample_face(std::uint32_t face, double u1, double u2, double u3)
   return (1 - s) * v(0) + s * (1 - u2) * v(tri) + s * u2 * v(tri + 1);
 }
 
-Vec3 Hierarchy::sample_point(const Element& e, double u1, double u2, double u3,
-                             const Vec3* toward, std::uint32_t* face) const {
+Vec3 Hierarchy::sample_point(const Element& e, double u1, double u2, double u3, const Vec3* toward,
+                             std::uint32_t* face) const {
   if (e.is_cluster()) {
     if (e.face == e.face_end) {
       if (face) *face = ~std::uint32_t{0};
@@ -265,9 +273,10 @@ Vec3 Hierarchy::sample_point(const Element& e, double u1, double u2, double u3,
     double u = u3;
     for (int attempt = 0; attempt < (toward ? kFacingTries : 1); ++attempt) {
       const double target = lo + u * (hi - lo);
-      auto it = std::upper_bound(prefix_area_.begin() + e.face,
-                                 prefix_area_.begin() + e.face_end, target);
-      i = static_cast<std::uint32_t>(std::max<std::ptrdiff_t>(it - prefix_area_.begin() - 1, e.face));
+      auto it = std::upper_bound(prefix_area_.begin() + e.face, prefix_area_.begin() + e.face_end,
+                                 target);
+      i = static_cast<std::uint32_t>(
+          std::max<std::ptrdiff_t>(it - prefix_area_.begin() - 1, e.face));
       i = std::min(i, e.face_end - 1);
       // Reuse u's leftover precision: remap it within the chosen face's share.
       const double share = prefix_area_[i + 1] - prefix_area_[i];
@@ -286,7 +295,8 @@ Vec3 Hierarchy::sample_point(const Element& e, double u1, double u2, double u3,
   if (face) *face = e.face;
   const auto c = e.corners();
   if (c.size() == 4) {
-    return (1 - u1) * (1 - u2) * c[0] + u1 * (1 - u2) * c[1] + u1 * u2 * c[2] + (1 - u1) * u2 * c[3];
+    return (1 - u1) * (1 - u2) * c[0] + u1 * (1 - u2) * c[1] + u1 * u2 * c[2] +
+           (1 - u1) * u2 * c[3];
   }
   if (c.size() == 3) {
     const double s = std::sqrt(u1);

@@ -114,10 +114,10 @@ class Hierarchy {
   [[nodiscard]] Vec3 sample_face(std::uint32_t face, double u1, double u2, double u3) const;
 
   const Scene& scene_;
-  std::vector<std::uint32_t> order_;        ///< faces in cluster order
-  std::vector<double> prefix_area_;         ///< prefix sums of face areas in order_
-  std::vector<Vec3> face_normal_;           ///< unit normal of each input polygon
-  std::vector<Vec3> ngon_store_;            ///< corners of input polygons with > 4 vertices
+  std::vector<std::uint32_t> order_;  ///< faces in cluster order
+  std::vector<double> prefix_area_;   ///< prefix sums of face areas in order_
+  std::vector<Vec3> face_normal_;     ///< unit normal of each input polygon
+  std::vector<Vec3> ngon_store_;      ///< corners of input polygons with > 4 vertices
   std::vector<std::unique_ptr<Arena>> arenas_;
   Element* root_ = nullptr;
 };

@@ -22,8 +22,8 @@ std::size_t LinkList::block_count() const {
 
 namespace {
 LinkBlock* new_block(NodeArena& arena, std::uint32_t count, std::uint32_t capacity) {
-  void* p = arena.allocate(sizeof(LinkBlock) + std::size_t{capacity} * sizeof(Link),
-                           alignof(LinkBlock));
+  void* p =
+      arena.allocate(sizeof(LinkBlock) + std::size_t{capacity} * sizeof(Link), alignof(LinkBlock));
   return new (p) LinkBlock{nullptr, count, capacity};
 }
 }  // namespace

@@ -11,18 +11,18 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <stdexcept>
 #include <numbers>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 namespace hrad {
 namespace {
 
-constexpr int kGrid = 5;             // candidates per axis
-constexpr int kSphereRays = 48;      // free-space test per candidate
-constexpr int kKeep = 16;            // candidates whose views are scored
-constexpr int kAzimuths = 8;         // horizontal view directions
+constexpr int kGrid = 5;         // candidates per axis
+constexpr int kSphereRays = 48;  // free-space test per candidate
+constexpr int kKeep = 16;        // candidates whose views are scored
+constexpr int kAzimuths = 8;     // horizontal view directions
 constexpr double kPitchesDeg[] = {0.0, -20.0};
 constexpr int kFrustumX = 8, kFrustumY = 6;  // score rays per view (4:3, as render.png)
 constexpr double kMaxBackShare = 0.25;       // of the hits; more: inside a solid
@@ -97,9 +97,8 @@ View score_view(const RayScene& rays, const Vec3& eye, const Vec3& dir, const Ve
 
 Camera best_interior_view(const RayScene& rays, std::vector<Candidate> pool, int up_axis,
                           double diagonal) {
-  std::stable_sort(pool.begin(), pool.end(), [](const Candidate& a, const Candidate& b) {
-    return a.farthest > b.farthest;
-  });
+  std::stable_sort(pool.begin(), pool.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.farthest > b.farthest; });
   pool.resize(std::min<std::size_t>(pool.size(), kKeep));
   const Vec3 up = Vec3::Unit(up_axis);
   const int h1 = (up_axis + 1) % 3, h2 = (up_axis + 2) % 3;  // horizontal axes
@@ -108,16 +107,15 @@ Camera best_interior_view(const RayScene& rays, std::vector<Candidate> pool, int
 #pragma omp parallel for schedule(dynamic, 1)
   for (int i = 0; i < static_cast<int>(views.size()); ++i) {
     const double azimuth = 2 * std::numbers::pi * (i % kAzimuths + 0.5) / kAzimuths;
-    const double pitch = kPitchesDeg[(i / kAzimuths) % std::size(kPitchesDeg)] *
-                         std::numbers::pi / 180;
+    const double pitch =
+        kPitchesDeg[(i / kAzimuths) % std::size(kPitchesDeg)] * std::numbers::pi / 180;
     Vec3 dir = std::sin(pitch) * up;
     dir[h1] = std::cos(pitch) * std::cos(azimuth);
     dir[h2] = std::cos(pitch) * std::sin(azimuth);
     views[i] = score_view(rays, pool[i / kPerEye].eye, dir, up, diagonal);
   }
-  const auto best = std::max_element(views.begin(), views.end(), [](const View& a, const View& b) {
-    return a.score < b.score;
-  });
+  const auto best = std::max_element(
+      views.begin(), views.end(), [](const View& a, const View& b) { return a.score < b.score; });
   return best->camera;
 }
 
@@ -142,8 +140,8 @@ AutoCamera choose(const Scene& scene, const RayScene& rays) {
         Candidate c;
         const int cell[3] = {i, j, k};
         for (int a = 0; a < 3; ++a)
-          c.eye[a] =
-              box.lo[a] + extent[a] * (cell[a] + 0.15 + 0.7 * hashed_uniform(kSeed, draw++)) / kGrid;
+          c.eye[a] = box.lo[a] +
+                     extent[a] * (cell[a] + 0.15 + 0.7 * hashed_uniform(kSeed, draw++)) / kGrid;
         candidates.push_back(c);
       }
 
@@ -196,9 +194,9 @@ AutoCamera choose(const Scene& scene, const RayScene& rays) {
 
 AutoCamera automatic_camera(const Scene& scene, const RayScene& rays) {
   if (rays.polygon_count() != scene.faces.size())
-    throw std::invalid_argument(fmt::format(
-        "automatic_camera: the ray scene holds {} polygons, the scene {} faces",
-        rays.polygon_count(), scene.faces.size()));
+    throw std::invalid_argument(
+        fmt::format("automatic_camera: the ray scene holds {} polygons, the scene {} faces",
+                    rays.polygon_count(), scene.faces.size()));
   const auto start = Clock::now();
   AutoCamera out = choose(scene, rays);
   out.seconds = seconds_since(start);

@@ -30,7 +30,8 @@ std::string encode_pfm(const Image& img) {
         if (!(c[k] >= 0 && c[k] <= kMax))
           throw std::invalid_argument(fmt::format(
               "encode_pfm: pixel ({}, {}) has radiance {} (must be finite, >= 0 and fit a "
-              "32-bit float)", x, y, c[k]));
+              "32-bit float)",
+              x, y, c[k]));
         const auto bits = std::bit_cast<std::uint32_t>(static_cast<float>(c[k]));
         for (int b = 0; b < 4; ++b) *at++ = static_cast<char>((bits >> (8 * b)) & 0xffu);
       }
@@ -73,8 +74,9 @@ Image decode_pfm(std::string_view bytes) {
   std::size_t pos = 0;
   const std::string_view magic = token(bytes, pos);
   if (magic != "PF")
-    throw std::invalid_argument(fmt::format(
-        "PFM: the file starts with '{}', not 'PF' (three-channel PFM)", std::string(magic.substr(0, 8))));
+    throw std::invalid_argument(
+        fmt::format("PFM: the file starts with '{}', not 'PF' (three-channel PFM)",
+                    std::string(magic.substr(0, 8))));
   const int width = number<int>(token(bytes, pos), "width");
   const int height = number<int>(token(bytes, pos), "height");
   const double scale = number<double>(token(bytes, pos), "scale");

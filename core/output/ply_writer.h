@@ -22,7 +22,6 @@ namespace hrad {
 
 /// encode_ply written atomically. Throws std::invalid_argument for a bad mesh,
 /// std::runtime_error when the file cannot be written.
-void write_ply(const RenderMesh& mesh, const std::filesystem::path& path,
-               const ToneMap& tm = {});
+void write_ply(const RenderMesh& mesh, const std::filesystem::path& path, const ToneMap& tm = {});
 
 }  // namespace hrad

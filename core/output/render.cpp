@@ -25,9 +25,9 @@ namespace hrad {
 void check_render_mesh(const RenderMesh& mesh) {
   const std::size_t n = mesh.positions.size();
   if (mesh.radiosity.size() != n || mesh.reflectance.size() != n)
-    throw std::invalid_argument(fmt::format(
-        "RenderMesh: {} positions but {} radiosity and {} reflectance values", n,
-        mesh.radiosity.size(), mesh.reflectance.size()));
+    throw std::invalid_argument(
+        fmt::format("RenderMesh: {} positions but {} radiosity and {} reflectance values", n,
+                    mesh.radiosity.size(), mesh.reflectance.size()));
   for (std::size_t i = 0; i < n; ++i) {
     if (!mesh.positions[i].allFinite() || !mesh.reflectance[i].allFinite() ||
         !mesh.radiosity[i].allFinite() || (mesh.radiosity[i] < 0).any())
@@ -35,9 +35,9 @@ void check_render_mesh(const RenderMesh& mesh) {
           fmt::format("RenderMesh: vertex {} has a non-finite or negative value", i));
     // solution.ply stores 32-bit floats: beyond their range a value would be inf.
     if ((mesh.radiosity[i] > static_cast<double>(std::numeric_limits<float>::max())).any())
-      throw std::invalid_argument(fmt::format(
-          "RenderMesh: vertex {} has radiosity {:g}, beyond the range of 32-bit floats", i,
-          mesh.radiosity[i].maxCoeff()));
+      throw std::invalid_argument(
+          fmt::format("RenderMesh: vertex {} has radiosity {:g}, beyond the range of 32-bit floats",
+                      i, mesh.radiosity[i].maxCoeff()));
   }
   for (std::size_t p = 0; p < mesh.polys.size(); ++p) {
     const auto& q = mesh.polys[p];
@@ -159,8 +159,7 @@ namespace {
 
 /// Radiosity at surface coordinates (u, v) of polygon q, with Embree's conventions
 /// (see RayHit): barycentric for triangles, bilinear from corner 0 for quads.
-Rgb interpolate(const RenderMesh& mesh, const std::array<std::uint32_t, 4>& q, double u,
-                double v) {
+Rgb interpolate(const RenderMesh& mesh, const std::array<std::uint32_t, 4>& q, double u, double v) {
   const auto& b = mesh.radiosity;
   if (RenderMesh::is_triangle(q)) return (1 - u - v) * b[q[0]] + u * b[q[1]] + v * b[q[2]];
   return (1 - u) * (1 - v) * b[q[0]] + u * (1 - v) * b[q[1]] + u * v * b[q[2]] +
@@ -217,8 +216,8 @@ Image render_radiance(const RenderMesh& mesh, const Camera& cam, int width, int 
             // two-sided sheet, core/scene/back_faces.h) wins, as it would for the solver.
             const double win = 4 * RayScene::kEndpointEpsilon * rays.scale() / dir.norm();
             const double start = std::max(hit->t - win, 0.0);
-            const auto front = rays.intersect(cam.eye + start * dir, dir, hit->t - start + win,
-                                              hit->prim);
+            const auto front =
+                rays.intersect(cam.eye + start * dir, dir, hit->t - start + win, hit->prim);
             if (front && rays.normal(front->prim).dot(dir) < 0) hit = front;
           }
           ++hits;

@@ -30,10 +30,10 @@
 namespace hrad {
 
 struct ToneMap {
-  double exposure = 0;    ///< multiplier on radiance; <= 0 selects the automatic exposure
-  double key = 0.18;      ///< automatic exposure maps the log-average luminance to this
-  bool reinhard = true;   ///< false: clamp instead of x / (1 + x)
-  double stops = 0;       ///< the exposure above is multiplied by 2^stops
+  double exposure = 0;   ///< multiplier on radiance; <= 0 selects the automatic exposure
+  double key = 0.18;     ///< automatic exposure maps the log-average luminance to this
+  bool reinhard = true;  ///< false: clamp instead of x / (1 + x)
+  double stops = 0;      ///< the exposure above is multiplied by 2^stops
 };
 
 /// Rec. 709 luminance of a linear RGB triple.

@@ -39,8 +39,7 @@ IterationTotals sum_iterations(const std::vector<IterationStats>& iterations) {
   }
   t.local_access_ratio =
       located == 0 ? std::nan("") : static_cast<double>(local) / static_cast<double>(located);
-  t.task_cpu_ns =
-      t.tasks > 0 ? 1e9 * t.refine_thread_cpu_s / static_cast<double>(t.tasks) : 0.0;
+  t.task_cpu_ns = t.tasks > 0 ? 1e9 * t.refine_thread_cpu_s / static_cast<double>(t.tasks) : 0.0;
   if (!iterations.empty()) {
     t.links = iterations.back().links;
     t.elements = iterations.back().elements;

@@ -15,16 +15,16 @@ namespace hrad {
 /// One refiner's share of an iteration's refinement stage.
 struct RefinerStats {
   std::uint64_t tasks = 0;
-  std::uint64_t takes = 0;       ///< scheduler take() calls that returned tasks
-  std::uint64_t submits = 0;     ///< scheduler submit() calls
-  double busy_s = 0;             ///< time spent refining blocks
-  double idle_s = 0;             ///< time spent waiting for tasks
-  double lock_wait_s = 0;        ///< time waiting on the element and link lock pools
+  std::uint64_t takes = 0;    ///< scheduler take() calls that returned tasks
+  std::uint64_t submits = 0;  ///< scheduler submit() calls
+  double busy_s = 0;          ///< time spent refining blocks
+  double idle_s = 0;          ///< time spent waiting for tasks
+  double lock_wait_s = 0;     ///< time waiting on the element and link lock pools
   std::uint64_t rays_cast = 0;
   // NUMA placement (core/parallel/pin_plan.h, core/parallel/node_arena.h):
-  int node = 0;                  ///< NUMA node of the refiner's pin plan (0 when unpinned)
-  std::string pus;               ///< PUs it is bound to, "0-3" ("" when unpinned)
-  std::string bound = "none";    ///< "none", "applied", "planned" (synthetic topology), "failed"
+  int node = 0;                    ///< NUMA node of the refiner's pin plan (0 when unpinned)
+  std::string pus;                 ///< PUs it is bound to, "0-3" ("" when unpinned)
+  std::string bound = "none";      ///< "none", "applied", "planned" (synthetic topology), "failed"
   std::uint64_t tasks_local = 0;   ///< tasks whose receiver's memory is on `node`
   std::uint64_t tasks_remote = 0;  ///< tasks whose receiver's memory is on another node
   /// CPU time of the refiner's thread over the stage (its own clock): below the
@@ -34,31 +34,31 @@ struct RefinerStats {
 };
 
 struct IterationStats {
-  int iteration = 0;             ///< 1-based
-  double refine_wall_s = 0;      ///< wall time of the refinement stage
-  double refine_cpu_s = 0;       ///< busy time summed over refiners (paper, Figure 4)
+  int iteration = 0;         ///< 1-based
+  double refine_wall_s = 0;  ///< wall time of the refinement stage
+  double refine_cpu_s = 0;   ///< busy time summed over refiners (paper, Figure 4)
   /// CPU time of the refiners' threads summed (their own clocks, whole stage).
   double refine_thread_cpu_s = 0;
   /// refine_thread_cpu_s per task, in nanoseconds (0 without tasks): the per-task
   /// cost to compare between thread counts.
   double task_cpu_ns = 0;
-  double propagate_wall_s = 0;   ///< wall time of gather + push-pull
+  double propagate_wall_s = 0;      ///< wall time of gather + push-pull
   std::uint64_t links_created = 0;  ///< links created in this iteration (not re-accepted ones)
   std::uint64_t links = 0;          ///< links alive at the end of the iteration
   std::uint64_t elements = 0;       ///< elements (clusters + surfaces) alive at the end
   std::map<std::string, std::uint64_t> bytes;  ///< by structure: "elements", "links", ...
   std::uint64_t peak_rss_bytes = 0;
-  std::uint64_t tasks = 0;          ///< tasks executed by refiners
-  std::uint64_t scheduler_ops = 0;  ///< take + submit calls on the scheduler
+  std::uint64_t tasks = 0;                    ///< tasks executed by refiners
+  std::uint64_t scheduler_ops = 0;            ///< take + submit calls on the scheduler
   std::map<std::string, double> lock_wait_s;  ///< by lock class: "scheduler", "element", "link"
-  double idle_s = 0;                ///< refiner time spent waiting for tasks
-  int peak_parallelism = 0;         ///< most refiners busy at the same moment
+  double idle_s = 0;                          ///< refiner time spent waiting for tasks
+  int peak_parallelism = 0;                   ///< most refiners busy at the same moment
   /// Time to build the initial tasks from the previous iteration's links (in
   /// parallel, before the stage; included in refine_wall_s) plus the refiners' time
   /// submitting them to the scheduler.
   double load_s = 0;
-  double link_compact_s = 0;        ///< end of the stage: longest refiner's link compaction
-  std::uint64_t steals = 0;         ///< tasks taken from another refiner's queue
+  double link_compact_s = 0;           ///< end of the stage: longest refiner's link compaction
+  std::uint64_t steals = 0;            ///< tasks taken from another refiner's queue
   std::vector<RefinerStats> refiners;  ///< per refiner, by OpenMP thread number
   /// Bytes by NUMA node as the placement arenas count them (core/parallel/node_arena.h):
   /// elements and links together, and each alone.
@@ -75,12 +75,12 @@ struct IterationStats {
   /// Tasks whose receiver was on the refiner's node / all tasks (NaN: no tasks).
   double local_access_ratio = 0;
   std::uint64_t rays_cast = 0;
-  std::uint64_t rays_skipped = 0;   ///< visibility queries answered without rays
+  std::uint64_t rays_skipped = 0;  ///< visibility queries answered without rays
   int gather_sweeps = 0;
-  double max_change = 0;            ///< relative radiosity change of the last sweep
+  double max_change = 0;  ///< relative radiosity change of the last sweep
   /// Leaf row sums (total transport gathered, see core/solver/row_sums.h), uncorrected.
   double row_sum_min = 0, row_sum_max = 0, row_sum_mean = 0;
-  double row_sum_within_band = 0;  ///< open-area share within 1 +- kRowSumBand
+  double row_sum_within_band = 0;       ///< open-area share within 1 +- kRowSumBand
   std::uint64_t row_sum_corrected = 0;  ///< leaves whose gathered irradiance was rescaled
   /// Open fractions (core/transport/open_fraction.h): rays cast for them this iteration (also in
   /// rays_cast) and the open share of the leaves' area (1 - closed in by contacts).

@@ -86,7 +86,8 @@ RenderMesh flat_mesh(std::span<const ShadingPatch> patches) {
     }
     const auto k = static_cast<std::uint32_t>(p.corners.size());
     if (k <= 4) {
-      mesh.polys.push_back({first, first + 1, first + 2, k == 4 ? first + 3 : RenderMesh::kNoVertex});
+      mesh.polys.push_back(
+          {first, first + 1, first + 2, k == 4 ? first + 3 : RenderMesh::kNoVertex});
     } else {
       for (std::uint32_t i = 1; i + 1 < k; ++i)
         mesh.polys.push_back({first, first + i, first + i + 1, RenderMesh::kNoVertex});
@@ -204,8 +205,8 @@ RenderMesh smooth_mesh(std::span<const ShadingPatch> patches, double tolerance) 
     mesh.radiosity.push_back(value / static_cast<double>(k));
     mesh.reflectance.push_back(p.reflectance);
     for (std::size_t j = b; j < e; ++j)
-      mesh.polys.push_back({c, loop_vertex[j], loop_vertex[j + 1 < e ? j + 1 : b],
-                            RenderMesh::kNoVertex});
+      mesh.polys.push_back(
+          {c, loop_vertex[j], loop_vertex[j + 1 < e ? j + 1 : b], RenderMesh::kNoVertex});
   }
   return mesh;
 }
@@ -218,8 +219,9 @@ RenderMesh shade_patches(std::span<const ShadingPatch> patches, Shading mode, do
         fmt::format("shade_patches: the tolerance must be a finite number > 0, got {}", tolerance));
   for (std::size_t i = 0; i < patches.size(); ++i)
     if (patches[i].corners.size() < 3)
-      throw std::invalid_argument(fmt::format(
-          "shade_patches: patch {} has {} corners (at least 3 needed)", i, patches[i].corners.size()));
+      throw std::invalid_argument(
+          fmt::format("shade_patches: patch {} has {} corners (at least 3 needed)", i,
+                      patches[i].corners.size()));
   return mode == Shading::Flat ? flat_mesh(patches) : smooth_mesh(patches, tolerance);
 }
 

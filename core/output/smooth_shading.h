@@ -37,7 +37,6 @@
 
 namespace hrad {
 
-
 /// Normals of leaves smoothed together differ by at most this angle (degrees).
 inline constexpr double kSmoothAngleDeg = 30;
 
@@ -48,7 +47,7 @@ struct ShadingPatch {
   Vec3 normal = Vec3::Zero();     ///< unit normal
   std::uint32_t material = 0;     ///< leaves of different materials never blend
   double area = 0;
-  double open = 1;                ///< open fraction in [0, 1]
+  double open = 1;  ///< open fraction in [0, 1]
   Rgb radiosity = Rgb::Zero();
   Rgb reflectance = Rgb::Zero();
 };

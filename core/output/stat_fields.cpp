@@ -110,8 +110,7 @@ const std::vector<RunField>& run_fields() {
       {nullptr, "links_created", "count", HRAD_COUNT(sums.links_created)},
       {"rays_cast", "rays_cast", "count", HRAD_COUNT(run.totals.rays_cast)},
       {"rays_skipped", "rays_skipped", "count", HRAD_COUNT(run.totals.rays_skipped)},
-      {"peak_rss_bytes", "peak_rss_bytes", "bytes",
-       HRAD_COUNT(run.totals.peak_rss_bytes)},
+      {"peak_rss_bytes", "peak_rss_bytes", "bytes", HRAD_COUNT(run.totals.peak_rss_bytes)},
       {nullptr, "bytes_elements", "bytes", HRAD_COUNT(at(sums.bytes, "elements"))},
       {nullptr, "bytes_links", "bytes", HRAD_COUNT(at(sums.bytes, "links"))},
       {nullptr, "bytes_total", "bytes", HRAD_COUNT(total(sums.bytes))},
@@ -119,16 +118,14 @@ const std::vector<RunField>& run_fields() {
       {nullptr, "scheduler_ops", "count", HRAD_COUNT(sums.scheduler_ops)},
       {nullptr, "steals", "count", HRAD_COUNT(sums.steals)},
       {nullptr, "idle_s", "s", HRAD_REAL(sums.idle_s)},
-      {nullptr, "lock_wait_scheduler_s", "s",
-       HRAD_REAL(at(sums.lock_wait_s, "scheduler"))},
+      {nullptr, "lock_wait_scheduler_s", "s", HRAD_REAL(at(sums.lock_wait_s, "scheduler"))},
       {nullptr, "lock_wait_element_s", "s", HRAD_REAL(at(sums.lock_wait_s, "element"))},
       {nullptr, "lock_wait_link_s", "s", HRAD_REAL(at(sums.lock_wait_s, "link"))},
       {nullptr, "lock_wait_total_s", "s", HRAD_REAL(total(sums.lock_wait_s))},
       {nullptr, "peak_parallelism", "count", HRAD_COUNT(sums.peak_parallelism)},
       {nullptr, "local_access_ratio", "", HRAD_REAL(sums.local_access_ratio)},
       {nullptr, "gather_sweeps", "count", HRAD_COUNT(sums.gather_sweeps)},
-      {"iterations_run", "iterations_run", "count",
-       HRAD_COUNT(run.totals.iterations_run)},
+      {"iterations_run", "iterations_run", "count", HRAD_COUNT(run.totals.iterations_run)},
   };
   return fields;
 }

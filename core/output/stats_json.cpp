@@ -76,7 +76,8 @@ nlohmann::json totals_json(const RunStats& stats) {
   const IterationTotals sums = sum_iterations(stats.iterations);
   nlohmann::json j = nlohmann::json::object();
   for (const RunField& f : run_fields())
-    if (f.path) j[nlohmann::json::json_pointer(std::string("/") + f.path)] = field_json(f.get(stats, sums));
+    if (f.path)
+      j[nlohmann::json::json_pointer(std::string("/") + f.path)] = field_json(f.get(stats, sums));
   return j;
 }
 
@@ -131,8 +132,8 @@ nlohmann::json camera_json(const Camera& cam, const std::string& source,
 
 void write_json_atomically(const std::filesystem::path& path, const nlohmann::json& j) {
   // Invalid UTF-8 (a file name or warning taken from the input) is replaced, not fatal.
-  write_file_atomically(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
-                                  "\n");
+  write_file_atomically(path,
+                        j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace hrad

@@ -30,7 +30,8 @@ NodeArena::~NodeArena() {
 }
 
 void NodeArena::new_chunk(std::size_t at_least) {
-  const std::size_t size = std::max(kChunkBytes, (at_least + kPageBytes - 1) / kPageBytes * kPageBytes);
+  const std::size_t size =
+      std::max(kChunkBytes, (at_least + kPageBytes - 1) / kPageBytes * kPageBytes);
   void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (p == MAP_FAILED) throw std::bad_alloc();
   chunks_.push_back(Chunk{static_cast<std::byte*>(p), size, 0});
@@ -75,7 +76,8 @@ int NodeArena::node_of_page(std::uintptr_t address) const {
   switch (how_) {
     case MemBind::FirstTouch: return node_;
     case MemBind::Node: return 0;
-    case MemBind::Interleave: return static_cast<int>((address / kPageBytes) % static_cast<std::uintptr_t>(nodes_));
+    case MemBind::Interleave:
+      return static_cast<int>((address / kPageBytes) % static_cast<std::uintptr_t>(nodes_));
   }
   return 0;
 }
@@ -100,7 +102,8 @@ std::vector<std::uint64_t> NodeArena::bytes_per_node() const {
     }
     const auto base = reinterpret_cast<std::uintptr_t>(c.base);
     for (std::size_t off = 0; off < c.used; off += kPageBytes)
-      bytes[static_cast<std::size_t>(node_of_page(base + off))] += std::min(kPageBytes, c.used - off);
+      bytes[static_cast<std::size_t>(node_of_page(base + off))] +=
+          std::min(kPageBytes, c.used - off);
   }
   return bytes;
 }

@@ -38,8 +38,8 @@ namespace hrad {
 /// How a set of arenas places memory, and on which node each owner runs.
 struct ArenaPlacement {
   MemBind how = MemBind::FirstTouch;
-  int nodes = 1;                  ///< NUMA nodes (logical indices 0 .. nodes-1)
-  std::vector<int> owner_node;    ///< node of each owner (refiner); missing = 0
+  int nodes = 1;                       ///< NUMA nodes (logical indices 0 .. nodes-1)
+  std::vector<int> owner_node;         ///< node of each owner (refiner); missing = 0
   const Topology* topology = nullptr;  ///< binds interleave/node0 chunks; null: bookkeeping only
 };
 
@@ -70,7 +70,7 @@ class NodeArena {
   [[nodiscard]] bool owns(const void* p) const { return node_of(p) >= 0; }
 
   [[nodiscard]] int owner() const { return owner_; }
-  [[nodiscard]] int node() const { return node_; }     ///< the owner's node
+  [[nodiscard]] int node() const { return node_; }  ///< the owner's node
   /// Bytes handed out since construction or reset(), alignment padding included.
   [[nodiscard]] std::size_t bytes_used() const { return used_; }
   [[nodiscard]] std::size_t chunk_count() const { return chunks_.size(); }  ///< mapped

@@ -62,7 +62,8 @@ std::vector<int> scatter_node_order(const TopologyInfo& t) {
   for (std::size_t n = 0; n < t.nodes.size(); ++n) {
     if (t.nodes[n].core_pus.empty()) continue;
     const int p = t.nodes[n].package + 1;  // -1 (no package) becomes its own group 0
-    if (static_cast<int>(seen_in_package.size()) <= p) seen_in_package.resize(static_cast<std::size_t>(p) + 1, 0);
+    if (static_cast<int>(seen_in_package.size()) <= p)
+      seen_in_package.resize(static_cast<std::size_t>(p) + 1, 0);
     key.emplace_back(seen_in_package[static_cast<std::size_t>(p)]++, static_cast<int>(n));
   }
   std::stable_sort(key.begin(), key.end(),
@@ -89,8 +90,8 @@ std::vector<Slot> scatter_slots(const TopologyInfo& t) {
       max_pus = std::max(max_pus, core.size());
   }
   std::vector<Slot> slots;
-  for (std::size_t k = 0; k < max_pus; ++k)          // k-th PU of each core
-    for (std::size_t r = 0; r < max_cores; ++r)      // round r: core r of each node
+  for (std::size_t k = 0; k < max_pus; ++k)      // k-th PU of each core
+    for (std::size_t r = 0; r < max_cores; ++r)  // round r: core r of each node
       for (int n : order) {
         const auto& cores = t.nodes[static_cast<std::size_t>(n)].core_pus;
         if (r < cores.size() && k < cores[r].size()) slots.push_back({n, cores[r][k]});
@@ -125,7 +126,8 @@ PinPlan make_pin_plan(const TopologyInfo& t, PinPolicy policy, int threads) {
       plan.refiners[static_cast<std::size_t>(i)] = ThreadBinding{n, node_pus(n)};
     }
   } else {
-    const std::vector<Slot> slots = policy == PinPolicy::Compact ? compact_slots(t) : scatter_slots(t);
+    const std::vector<Slot> slots =
+        policy == PinPolicy::Compact ? compact_slots(t) : scatter_slots(t);
     plan.wrapped = static_cast<std::size_t>(threads) > slots.size();
     for (int i = 0; i < threads; ++i) {
       const Slot& s = slots[static_cast<std::size_t>(i) % slots.size()];

@@ -52,15 +52,15 @@ std::string bytes_text(std::uint64_t b) {
   return fmt::format("{:.1f} GiB", static_cast<double>(b) / (1024.0 * 1024.0 * 1024.0));
 }
 
-
 TopologyPtr load() {
   hwloc_topology_t raw = nullptr;
   if (hwloc_topology_init(&raw) != 0) throw std::runtime_error("hwloc: cannot initialise");
   TopologyPtr topo(raw);
   // hwloc_topology_load reads HWLOC_SYNTHETIC / HWLOC_XMLFILE on its own (each call).
   if (hwloc_topology_load(raw) != 0)
-    throw std::runtime_error("hwloc: cannot load the topology (check HWLOC_SYNTHETIC / "
-                             "HWLOC_XMLFILE if set)");
+    throw std::runtime_error(
+        "hwloc: cannot load the topology (check HWLOC_SYNTHETIC / "
+        "HWLOC_XMLFILE if set)");
   return topo;
 }
 
@@ -72,11 +72,11 @@ std::vector<std::vector<int>> core_pus(hwloc_topology_t topo, hwloc_obj_t node) 
   const hwloc_obj_type_t unit = has_cores ? HWLOC_OBJ_CORE : HWLOC_OBJ_PU;
   const int n = count_inside(topo, node->cpuset, unit);
   for (int i = 0; i < n; ++i) {
-    hwloc_obj_t c = hwloc_get_obj_inside_cpuset_by_type(topo, node->cpuset, unit,
-                                                        static_cast<unsigned>(i));
+    hwloc_obj_t c =
+        hwloc_get_obj_inside_cpuset_by_type(topo, node->cpuset, unit, static_cast<unsigned>(i));
     std::vector<int> pus;
-    for (hwloc_obj_t pu = hwloc_get_next_obj_inside_cpuset_by_type(topo, c->cpuset, HWLOC_OBJ_PU,
-                                                                   nullptr);
+    for (hwloc_obj_t pu =
+             hwloc_get_next_obj_inside_cpuset_by_type(topo, c->cpuset, HWLOC_OBJ_PU, nullptr);
          pu != nullptr;
          pu = hwloc_get_next_obj_inside_cpuset_by_type(topo, c->cpuset, HWLOC_OBJ_PU, pu))
       pus.push_back(static_cast<int>(pu->os_index));

@@ -7,21 +7,21 @@
 // `lstopo machine.xml`). Such a topology is reported with synthetic = true.
 #pragma once
 
-#include "core/base/enum_names.h"
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
+#include "core/base/enum_names.h"
 
 namespace hrad {
 
 struct NumaNodeInfo {
-  int os_index = 0;         ///< the node's number as the OS (and numactl) knows it
-  int package = -1;         ///< logical index of the package holding it, -1 if none
-  int cores = 0;            ///< cores whose PUs lie in this node
-  int pus = 0;              ///< hardware threads in this node
-  std::string cpus;         ///< OS indices of those PUs, as a list: "0-7,16-23"
+  int os_index = 0;                ///< the node's number as the OS (and numactl) knows it
+  int package = -1;                ///< logical index of the package holding it, -1 if none
+  int cores = 0;                   ///< cores whose PUs lie in this node
+  int pus = 0;                     ///< hardware threads in this node
+  std::string cpus;                ///< OS indices of those PUs, as a list: "0-7,16-23"
   std::uint64_t memory_bytes = 0;  ///< local memory (0 when unknown)
   /// Each core's PUs (OS indices), cores in logical order; a topology without a core
   /// level has one "core" per PU. Used by core/parallel/pin_plan.h.
@@ -29,12 +29,12 @@ struct NumaNodeInfo {
 };
 
 struct TopologyInfo {
-  int packages = 0;    ///< may be 0 for synthetic topologies without a package level
-  int numa_nodes = 0;  ///< at least 1
-  int cores = 0;       ///< physical cores (PUs when the topology has no core level)
-  int pus = 0;         ///< hardware threads
-  std::string description;  ///< one line: where the topology came from, CPU model
-  bool synthetic = false;   ///< true when it is not this machine's (HWLOC_SYNTHETIC, XML)
+  int packages = 0;                 ///< may be 0 for synthetic topologies without a package level
+  int numa_nodes = 0;               ///< at least 1
+  int cores = 0;                    ///< physical cores (PUs when the topology has no core level)
+  int pus = 0;                      ///< hardware threads
+  std::string description;          ///< one line: where the topology came from, CPU model
+  bool synthetic = false;           ///< true when it is not this machine's (HWLOC_SYNTHETIC, XML)
   std::vector<NumaNodeInfo> nodes;  ///< in logical order
 };
 
@@ -84,7 +84,8 @@ class Topology {
 
   /// Binds the calling thread to the PUs with these OS indices
   /// (hwloc_set_cpubind, HWLOC_CPUBIND_THREAD). On failure, `warning` says why.
-  BindOutcome bind_current_thread(const std::vector<int>& pus, std::string* warning = nullptr) const;
+  BindOutcome bind_current_thread(const std::vector<int>& pus,
+                                  std::string* warning = nullptr) const;
 
   /// The OS indices of the PUs the calling thread may run on (hwloc_get_cpubind,
   /// HWLOC_CPUBIND_THREAD), to restore after a binding; empty when the topology is

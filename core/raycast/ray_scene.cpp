@@ -153,14 +153,11 @@ struct RayScene::Impl {
                                          last_error.empty() ? error_name(e) : last_error));
   }
 
-  std::uint32_t twin_of(std::uint32_t p) const {
-    return p >= twin.size() ? kNoPolygon : twin[p];
-  }
+  std::uint32_t twin_of(std::uint32_t p) const { return p >= twin.size() ? kNoPolygon : twin[p]; }
 
   /// A context that ignores polygons a and b and their twins, and with `front_of_twins`
   /// the backs of polygons with a twin (no filter when there is nothing to reject).
-  void init_context(IgnoreContext& c, std::uint32_t a, std::uint32_t b,
-                    bool front_of_twins) const {
+  void init_context(IgnoreContext& c, std::uint32_t a, std::uint32_t b, bool front_of_twins) const {
     rtcInitIntersectContext(&c.base);
     c.tri_poly = tri_poly.data();
     c.quad_poly = quad_poly.data();
@@ -176,9 +173,7 @@ struct RayScene::Impl {
     if (a != kNoPolygon || b != kNoPolygon || c.twin) c.base.filter = &ignore_filter;
   }
 
-  void count_ray() const {
-    counters[thread_stripe()].rays.fetch_add(1, std::memory_order_relaxed);
-  }
+  void count_ray() const { counters[thread_stripe()].rays.fetch_add(1, std::memory_order_relaxed); }
 
   unsigned add_geometry(RTCGeometryType type, RTCBuffer vertices, std::size_t vertex_count,
                         const std::vector<std::uint32_t>& index_data, unsigned per_prim) {
@@ -186,9 +181,9 @@ struct RayScene::Impl {
     rtcSetGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0,
                          3 * sizeof(float), vertex_count);
     const RTCFormat format = per_prim == 3 ? RTC_FORMAT_UINT3 : RTC_FORMAT_UINT4;
-    auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, format, per_prim * sizeof(std::uint32_t),
-        index_data.size() / per_prim));
+    auto* idx = static_cast<std::uint32_t*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, format,
+                                per_prim * sizeof(std::uint32_t), index_data.size() / per_prim));
     if (idx) std::copy(index_data.begin(), index_data.end(), idx);
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(scene, g);
@@ -264,15 +259,16 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
 
   m.device = rtcNewDevice(nullptr);
   if (!m.device)
-    throw std::runtime_error(fmt::format("Embree: cannot create a device ({})",
-                                         error_name(rtcGetDeviceError(nullptr))));
+    throw std::runtime_error(
+        fmt::format("Embree: cannot create a device ({})", error_name(rtcGetDeviceError(nullptr))));
   rtcSetDeviceErrorFunction(m.device, &Impl::on_error, &m);
   if (!rtcGetDeviceProperty(m.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
-    throw std::runtime_error("Embree was built without filter functions (needed to ignore polygons)");
+    throw std::runtime_error(
+        "Embree was built without filter functions (needed to ignore polygons)");
   m.scene = rtcNewScene(m.device);
   rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-  rtcSetSceneBuildQuality(m.scene, build == Build::Fast ? RTC_BUILD_QUALITY_MEDIUM
-                                                        : RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneBuildQuality(m.scene,
+                          build == Build::Fast ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);
   m.check("creating the scene");
 
   if (!polygons.empty()) {

@@ -95,8 +95,7 @@ class RayScene {
   /// meets that polygon's plane only at its start, so any hit on it is false, but in
   /// single precision a segment that skims along the polygon from an end point within
   /// ~1e-5 of the diagonal of it is reported blocked by it (grazing self-hits).
-  [[nodiscard]] bool occluded(const Vec3& from, const Vec3& to,
-                              std::uint32_t ignore_a = kNoPolygon,
+  [[nodiscard]] bool occluded(const Vec3& from, const Vec3& to, std::uint32_t ignore_a = kNoPolygon,
                               std::uint32_t ignore_b = kNoPolygon) const;
 
   /// First hit along origin + t * dir with kEndpointEpsilon * scale() <= t |dir| and
@@ -105,8 +104,7 @@ class RayScene {
   /// Polygons are hit from both sides, except one with a twin, which is hit only from
   /// its front (its twin covers the back). Thread-safe.
   [[nodiscard]] std::optional<RayHit> intersect(
-      const Vec3& origin, const Vec3& dir,
-      double tmax = std::numeric_limits<double>::infinity(),
+      const Vec3& origin, const Vec3& dir, double tmax = std::numeric_limits<double>::infinity(),
       std::uint32_t ignore = kNoPolygon) const;
 
   /// Bounding-box diagonal D of all vertices referenced by polygons (0 when empty).

@@ -106,12 +106,14 @@ ProbeTable parse_probe_table(const std::string& text, const std::string& file) {
         if (!col.count(r))
           throw InputError(file, line_no,
                            fmt::format("header has no column '{}' (expected x,y,z,nx,ny,nz,"
-                                       "E_r,E_g,E_b as probes.csv)", r));
+                                       "E_r,E_g,E_b as probes.csv)",
+                                       r));
       fields = f.size();
       continue;
     }
     if (f.size() != fields)
-      throw InputError(file, line_no, fmt::format("{} fields, the header has {}", f.size(), fields));
+      throw InputError(file, line_no,
+                       fmt::format("{} fields, the header has {}", f.size(), fields));
     const auto num = [&](const char* c) { return parse_field(f[col.at(c)], c, file, line_no); };
     Probe p;
     p.p = Vec3(num("x"), num("y"), num("z"));
@@ -138,8 +140,9 @@ ProbeTable read_probe_table(const std::filesystem::path& path) {
 
 ProbeComparison compare_probes(const ProbeTable& a, const ProbeTable& r, double floor) {
   if (a.probes.size() != r.probes.size())
-    throw std::invalid_argument(fmt::format("{} has {} probes but {} has {}: not the same probe set",
-                                            a.file, a.probes.size(), r.file, r.probes.size()));
+    throw std::invalid_argument(
+        fmt::format("{} has {} probes but {} has {}: not the same probe set", a.file,
+                    a.probes.size(), r.file, r.probes.size()));
   if (r.probes.empty()) throw std::invalid_argument(fmt::format("{}: no probes", r.file));
   Aabb box;
   for (const Probe& p : r.probes) box.extend(p.p);
@@ -147,9 +150,9 @@ ProbeComparison compare_probes(const ProbeTable& a, const ProbeTable& r, double 
   for (std::size_t i = 0; i < r.probes.size(); ++i)
     if ((a.probes[i].p - r.probes[i].p).norm() > tol ||
         (a.probes[i].n - r.probes[i].n).norm() > 1e-6)
-      throw std::invalid_argument(fmt::format(
-          "probe {} (data row {}) differs between {} and {}: not the same probe set", i, i + 1,
-          a.file, r.file));
+      throw std::invalid_argument(
+          fmt::format("probe {} (data row {}) differs between {} and {}: not the same probe set", i,
+                      i + 1, a.file, r.file));
 
   ProbeComparison c;
   c.has_se = !r.std_error.empty();
@@ -173,7 +176,8 @@ ProbeComparison compare_probes(const ProbeTable& a, const ProbeTable& r, double 
       }
       if (e.z <= 2) ++c.within_2se;
     }
-    e.signed_error = (e.result.mean() - e.reference.mean()) / std::max(std::abs(e.reference.mean()), c.floor);
+    e.signed_error =
+        (e.result.mean() - e.reference.mean()) / std::max(std::abs(e.reference.mean()), c.floor);
     c.bias += e.signed_error;
     if (e.signed_error < 0) ++c.low;
     sum += e.rel_error;
@@ -203,9 +207,9 @@ SurfaceComparison compare_surfaces(const RenderMesh& result, const RenderMesh& r
   for (double x : a.areas) s.area_result += x;
   for (double x : r.areas) s.area_reference += x;
   if (std::abs(s.area_result - s.area_reference) > 0.01 * s.area_reference)
-    throw std::invalid_argument(fmt::format(
-        "the meshes cover different areas ({:.6g} and {:.6g}): not the same scene",
-        s.area_result, s.area_reference));
+    throw std::invalid_argument(
+        fmt::format("the meshes cover different areas ({:.6g} and {:.6g}): not the same scene",
+                    s.area_result, s.area_reference));
   const double delta = 1e-4 * std::max(a.rays->scale(), r.rays->scale());
 
   Rgb sum_abs = Rgb::Zero(), sum_sq = Rgb::Zero(), sum_ref = Rgb::Zero();
@@ -253,7 +257,8 @@ SurfaceComparison compare_surfaces(const RenderMesh& result, const RenderMesh& r
   s.l2 = (sum_sq / weight).sqrt() / (ref / weight);
   s.l1_all = sum_abs.sum() / std::max(sum_ref.sum(), 1e-300);
   // Channel means of the squared difference and of the reference.
-  s.l2_all = std::sqrt(sum_sq.sum() / (3 * weight)) / std::max(sum_ref.sum() / (3 * weight), 1e-300);
+  s.l2_all =
+      std::sqrt(sum_sq.sum() / (3 * weight)) / std::max(sum_ref.sum() / (3 * weight), 1e-300);
   return s;
 }
 

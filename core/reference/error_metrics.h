@@ -75,13 +75,13 @@ struct ProbeComparison {
 /// (1e-3 x mean reference irradiance). Throws std::invalid_argument, naming both files,
 /// when the probe counts differ or a probe's point or normal differs (beyond 1e-6
 /// relative to the probes' extent, as 9-digit CSV round trips allow).
-[[nodiscard]] ProbeComparison compare_probes(const ProbeTable& result,
-                                             const ProbeTable& reference, double floor = 0);
+[[nodiscard]] ProbeComparison compare_probes(const ProbeTable& result, const ProbeTable& reference,
+                                             double floor = 0);
 
 struct SurfaceComparison {
-  Rgb l1 = Rgb::Zero(), l2 = Rgb::Zero();  ///< relative, per channel
-  double l1_all = 0, l2_all = 0;           ///< relative, the three channels together
-  Rgb reference_mean = Rgb::Zero();        ///< area-weighted mean radiosity of the reference
+  Rgb l1 = Rgb::Zero(), l2 = Rgb::Zero();      ///< relative, per channel
+  double l1_all = 0, l2_all = 0;               ///< relative, the three channels together
+  Rgb reference_mean = Rgb::Zero();            ///< area-weighted mean radiosity of the reference
   double area_result = 0, area_reference = 0;  ///< total polygon areas of the two meshes
   std::size_t samples = 0, unmatched = 0;
 };

@@ -8,8 +8,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -143,8 +143,8 @@ Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth) const {
     const double r = std::sqrt(rng.uniform()), phi = 2 * std::numbers::pi * rng.uniform();
     Vec3 t, b;
     basis(n, t, b);
-    const Vec3 dir = r * std::cos(phi) * t + r * std::sin(phi) * b +
-                     std::sqrt(std::max(0.0, 1 - r * r)) * n;
+    const Vec3 dir =
+        r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - r * r)) * n;
     const std::optional<RayHit> hit =
         rays_.intersect(x, dir, std::numeric_limits<double>::infinity(), face);
     if (!hit) break;
@@ -182,8 +182,7 @@ Rgb PathTracer::batch_mean(const Probe& probe, std::uint64_t seed, std::uint64_t
   return sum / static_cast<double>(std::max(paths, 1));
 }
 
-ReferenceResult PathTracer::estimate(std::span<const Probe> probes,
-                                     const PathTracerOptions& o,
+ReferenceResult PathTracer::estimate(std::span<const Probe> probes, const PathTracerOptions& o,
                                      const ReferenceProgressFn& progress) const {
   if (!(o.rel_error > 0) || !std::isfinite(o.rel_error))
     throw std::invalid_argument(fmt::format("rel_error {} must be > 0", o.rel_error));
@@ -191,9 +190,9 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes,
   if (o.min_batches < 2) throw std::invalid_argument("min_batches must be >= 2");
   if (o.threads < 1) throw std::invalid_argument("threads must be >= 1");
   if (o.max_samples < static_cast<std::uint64_t>(o.batch_size) * o.min_batches)
-    throw std::invalid_argument(fmt::format("max_samples {} is below batch_size x min_batches = {}",
-                                            o.max_samples,
-                                            static_cast<std::uint64_t>(o.batch_size) * o.min_batches));
+    throw std::invalid_argument(
+        fmt::format("max_samples {} is below batch_size x min_batches = {}", o.max_samples,
+                    static_cast<std::uint64_t>(o.batch_size) * o.min_batches));
   const auto t0 = Clock::now();
   const std::uint64_t rays0 = rays_cast();
   const std::size_t np = probes.size();
@@ -246,8 +245,9 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes,
       e.samples = means[i].size() * static_cast<std::uint64_t>(o.batch_size);
       floor_sum += m.abs();
     }
-    res.floor = o.abs_floor > 0 ? Rgb::Constant(o.abs_floor)
-                                : Rgb(1e-3 * floor_sum / static_cast<double>(std::max<std::size_t>(np, 1)));
+    res.floor = o.abs_floor > 0
+                    ? Rgb::Constant(o.abs_floor)
+                    : Rgb(1e-3 * floor_sum / static_cast<double>(std::max<std::size_t>(np, 1)));
     std::size_t converged = 0;
     for (std::size_t i = 0; i < np; ++i) {
       ProbeEstimate& e = res.probes[i];
@@ -265,9 +265,9 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes,
         // SE ~ 1/sqrt(batches): predict the batches needed, with 10% margin.
         const double want = std::isfinite(ratio) ? 1.1 * ratio * ratio * static_cast<double>(nb)
                                                  : 4.0 * static_cast<double>(nb);
-        const std::uint64_t next = std::clamp<std::uint64_t>(
-            static_cast<std::uint64_t>(std::ceil(std::min(want, 1e18))),
-            nb + static_cast<std::uint64_t>(o.min_batches), 4 * nb);
+        const std::uint64_t next =
+            std::clamp<std::uint64_t>(static_cast<std::uint64_t>(std::ceil(std::min(want, 1e18))),
+                                      nb + static_cast<std::uint64_t>(o.min_batches), 4 * nb);
         target[i] = std::min(next, max_batches);
       }
       converged += e.converged;

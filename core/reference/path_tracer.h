@@ -48,30 +48,30 @@
 namespace hrad {
 
 struct PathTracerOptions {
-  double rel_error = 1e-2;            ///< target relative standard error per probe, > 0
-  double abs_floor = 0;               ///< absolute SE floor; <= 0: 1e-3 x mean probe irradiance
+  double rel_error = 1e-2;               ///< target relative standard error per probe, > 0
+  double abs_floor = 0;                  ///< absolute SE floor; <= 0: 1e-3 x mean probe irradiance
   std::uint64_t max_samples = 1u << 22;  ///< paths per probe at most
-  std::uint64_t seed = 1;             ///< mixed into every probe's random numbers
-  int threads = 1;                    ///< OpenMP threads (results do not depend on it)
-  int batch_size = 64;                ///< paths per batch, >= 1
-  int min_batches = 16;               ///< batches before a probe is first tested, >= 2
-  int rr_depth = 3;                   ///< bounces before Russian roulette starts
+  std::uint64_t seed = 1;                ///< mixed into every probe's random numbers
+  int threads = 1;                       ///< OpenMP threads (results do not depend on it)
+  int batch_size = 64;                   ///< paths per batch, >= 1
+  int min_batches = 16;                  ///< batches before a probe is first tested, >= 2
+  int rr_depth = 3;                      ///< bounces before Russian roulette starts
 };
 
 /// The estimate at one probe.
 struct ProbeEstimate {
-  Rgb irradiance = Rgb::Zero();   ///< mean over all paths (W per unit area)
-  Rgb std_error = Rgb::Zero();    ///< standard error of that mean, per channel
-  std::uint64_t samples = 0;      ///< paths traced
-  bool converged = false;         ///< the relative-error target was met
+  Rgb irradiance = Rgb::Zero();  ///< mean over all paths (W per unit area)
+  Rgb std_error = Rgb::Zero();   ///< standard error of that mean, per channel
+  std::uint64_t samples = 0;     ///< paths traced
+  bool converged = false;        ///< the relative-error target was met
 };
 
 struct ReferenceResult {
   std::vector<ProbeEstimate> probes;
-  Rgb floor = Rgb::Zero();    ///< the absolute floor used in the convergence test
+  Rgb floor = Rgb::Zero();  ///< the absolute floor used in the convergence test
   int rounds = 0;
-  std::uint64_t rays = 0;     ///< rays cast (first hits and shadow rays)
-  double seconds = 0;         ///< wall time
+  std::uint64_t rays = 0;  ///< rays cast (first hits and shadow rays)
+  double seconds = 0;      ///< wall time
 };
 
 /// Called after each round with a label and the fraction of probes converged.

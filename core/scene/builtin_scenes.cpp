@@ -112,8 +112,8 @@ ParsedSpec parse_spec(const std::string& spec) {
     for (const BuiltinParam& p : info.params)
       if (p.name == key) param = &p;
     if (param == nullptr)
-      throw fail(fmt::format("unknown parameter '{}' for builtin scene '{}' (valid: {})", key,
-                             name, known_params(info)));
+      throw fail(fmt::format("unknown parameter '{}' for builtin scene '{}' (valid: {})", key, name,
+                             known_params(info)));
     if (given[key]) throw fail(fmt::format("parameter '{}' is given twice", key));
     given[key] = true;
     double v = 0;
@@ -122,8 +122,8 @@ ParsedSpec parse_spec(const std::string& spec) {
     if (param->integer && v != std::floor(v))
       throw fail(fmt::format("parameter '{}': '{}' is not an integer", key, text));
     if (v < param->min_value || v > param->max_value)
-      throw fail(fmt::format("parameter '{}': {} is outside [{}, {}]", key, text,
-                             param->min_value, param->max_value));
+      throw fail(fmt::format("parameter '{}': {} is outside [{}, {}]", key, text, param->min_value,
+                             param->max_value));
     values[key] = v;
   }
   return {which, std::move(values)};

@@ -37,15 +37,16 @@ bool parallel(const Vec3& a, const Vec3& b) {
 std::string inconsistency(const CameraSpec& s) {
   if (s.look == s.eye) return "look is the same point as eye";
   if (s.up && parallel(*s.up, s.look - s.eye))
-    return fmt::format("up ({:g},{:g},{:g}) is parallel to the view from eye to look",
-                       s.up->x(), s.up->y(), s.up->z());
+    return fmt::format("up ({:g},{:g},{:g}) is parallel to the view from eye to look", s.up->x(),
+                       s.up->y(), s.up->z());
   return "";
 }
 
 std::string fov_error(double fov) {
   return fov > 0 && fov < 180
              ? ""
-             : fmt::format("fov {:g} is outside (0, 180) degrees (the vertical field of view)", fov);
+             : fmt::format("fov {:g} is outside (0, 180) degrees (the vertical field of view)",
+                           fov);
 }
 
 }  // namespace
@@ -62,7 +63,8 @@ CameraSpec parse_camera_spec(std::string_view text) {
           fmt::format("empty part (two ':' in a row, or one at an end); parts are {}", kParts));
     const std::size_t eq = part.find('=');
     const std::string name(part.substr(0, eq == std::string_view::npos ? part.size() : eq));
-    if (eq == std::string_view::npos || (name != "eye" && name != "look" && name != "up" && name != "fov"))
+    if (eq == std::string_view::npos ||
+        (name != "eye" && name != "look" && name != "up" && name != "fov"))
       throw std::invalid_argument(
           fmt::format("unknown part '{}'; parts are {}", brief_text(part), kParts));
     const std::string_view value = part.substr(eq + 1);
@@ -129,7 +131,8 @@ CameraSpec read_view_file(const std::filesystem::path& path) {
                                    "'up X Y Z', 'fov DEG'",
                                    brief_text(keyword)));
     if (*seen)
-      throw InputError(file, number, fmt::format("'{}' is given twice (first on line {})", keyword, *seen));
+      throw InputError(file, number,
+                       fmt::format("'{}' is given twice (first on line {})", keyword, *seen));
     *seen = number;
     const std::size_t want = keyword == "fov" ? 1 : 3;
     if (values.size() != want)
@@ -169,9 +172,10 @@ Camera resolve_camera(const CameraSpec& spec, const Vec3& default_up) {
   c.up = spec.up.value_or(default_up);
   c.fov_y_deg = spec.fov_deg.value_or(kDefaultFovDeg);
   if (!spec.up && parallel(c.up, c.target - c.eye))
-    throw std::invalid_argument(fmt::format(
-        "the view from eye to look is parallel to the scene's up axis ({:g},{:g},{:g}); give up=X,Y,Z",
-        c.up.x(), c.up.y(), c.up.z()));
+    throw std::invalid_argument(
+        fmt::format("the view from eye to look is parallel to the scene's up axis "
+                    "({:g},{:g},{:g}); give up=X,Y,Z",
+                    c.up.x(), c.up.y(), c.up.z()));
   return c;
 }
 

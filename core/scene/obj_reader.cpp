@@ -535,10 +535,10 @@ std::string read_text(const std::string& path, const std::string& err_file, int 
                       const std::string& what) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(
-        err_file, err_line,
-        fmt::format("{} {}", what,
-                    std::filesystem::exists(path, ec) ? "is not a regular file" : "does not exist"));
+    throw InputError(err_file, err_line,
+                     fmt::format("{} {}", what,
+                                 std::filesystem::exists(path, ec) ? "is not a regular file"
+                                                                   : "does not exist"));
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
@@ -570,9 +570,9 @@ Scene read_obj(const std::string& path) {
   for (const Statement& st : scan.mtllibs) {
     for (const fs::path& p : mtllib_files(st, fs::path(path).parent_path())) {
       if (!seen.insert(p.lexically_normal()).second) continue;
-      mtls.push_back({p.string(),
-                      join_continuations(read_text(p.string(), path, st.line,
-                                                   fmt::format("material library '{}'", p.string())))});
+      mtls.push_back({p.string(), join_continuations(read_text(
+                                      p.string(), path, st.line,
+                                      fmt::format("material library '{}'", p.string())))});
     }
   }
   return build(scan, path, mtls, fs::path(path).stem().string(), path);

@@ -27,16 +27,21 @@ T get_le(const std::string& b, std::size_t& at) {
 
 RenderMesh decode_ply(const std::string& bytes, const std::string& file) {
   // The header, line by line, against the writer's layout.
-  const std::vector<std::string> expected = {
-      "ply",
-      "format binary_little_endian 1.0",
-      "element vertex *",
-      "property float x", "property float y", "property float z",
-      "property float radiosity_r", "property float radiosity_g", "property float radiosity_b",
-      "property uchar red", "property uchar green", "property uchar blue",
-      "element face *",
-      "property list uchar int vertex_indices",
-      "end_header"};
+  const std::vector<std::string> expected = {"ply",
+                                             "format binary_little_endian 1.0",
+                                             "element vertex *",
+                                             "property float x",
+                                             "property float y",
+                                             "property float z",
+                                             "property float radiosity_r",
+                                             "property float radiosity_g",
+                                             "property float radiosity_b",
+                                             "property uchar red",
+                                             "property uchar green",
+                                             "property uchar blue",
+                                             "element face *",
+                                             "property list uchar int vertex_indices",
+                                             "end_header"};
   std::size_t at = 0, nv = 0, nf = 0;
   int line = 0;
   for (std::size_t k = 0; k < expected.size();) {
@@ -55,10 +60,14 @@ RenderMesh decode_ply(const std::string& bytes, const std::string& file) {
       char extra = 0;
       if (text.rfind(prefix, 0) != 0 ||
           std::sscanf(text.c_str() + prefix.size(), "%zu%c", &count, &extra) != 1)
-        throw InputError(file, line, fmt::format("expected '{}N', found '{}' (not an hrad solution.ply?)", prefix, text));
+        throw InputError(
+            file, line,
+            fmt::format("expected '{}N', found '{}' (not an hrad solution.ply?)", prefix, text));
       (k == 2 ? nv : nf) = count;
     } else if (text != want) {
-      throw InputError(file, line, fmt::format("expected '{}', found '{}' (not an hrad solution.ply?)", want, text));
+      throw InputError(
+          file, line,
+          fmt::format("expected '{}', found '{}' (not an hrad solution.ply?)", want, text));
     }
     ++k;
   }
@@ -79,7 +88,8 @@ RenderMesh decode_ply(const std::string& bytes, const std::string& file) {
     const auto k = static_cast<unsigned char>(bytes[at++]);
     if (k != 3 && k != 4)
       throw InputError(file, 0, fmt::format("face {} has {} vertices (3 or 4 expected)", f, k));
-    if (bytes.size() - at < 4u * k) throw InputError(file, 0, fmt::format("truncated at face {}", f));
+    if (bytes.size() - at < 4u * k)
+      throw InputError(file, 0, fmt::format("truncated at face {}", f));
     auto& poly = mesh.polys[f];
     poly.fill(RenderMesh::kNoVertex);
     for (unsigned j = 0; j < k; ++j) {

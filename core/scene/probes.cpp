@@ -50,9 +50,9 @@ std::vector<Probe> parse_probes(const std::string& text, const std::string& file
     const auto fields = fields_of(line);
     if (fields.empty()) continue;
     if (fields.size() != 6)
-      throw InputError(file, line_no,
-                       fmt::format("expected 6 numbers (x y z nx ny nz), found {} fields",
-                                   fields.size()));
+      throw InputError(
+          file, line_no,
+          fmt::format("expected 6 numbers (x y z nx ny nz), found {} fields", fields.size()));
     std::array<double, 6> x{};
     for (std::size_t k = 0; k < 6; ++k) {
       const std::string_view f = fields[k];
@@ -150,7 +150,8 @@ std::string probes_csv(const std::vector<Probe>& probes, const std::vector<Rgb>&
                                             probes.size(), irradiance.size()));
   for (std::size_t i = 0; i < irradiance.size(); ++i)
     if (!irradiance[i].allFinite())
-      throw std::invalid_argument(fmt::format("probes_csv: probe {} has a non-finite irradiance", i + 1));
+      throw std::invalid_argument(
+          fmt::format("probes_csv: probe {} has a non-finite irradiance", i + 1));
   std::string out = "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
   for (std::size_t i = 0; i < probes.size(); ++i) {
     const Vec3& p = probes[i].p;

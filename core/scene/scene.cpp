@@ -47,9 +47,8 @@ double Scene::max_channel_emitted_power() const {
 }
 
 std::size_t Scene::emitter_count() const {
-  return static_cast<std::size_t>(std::count_if(faces.begin(), faces.end(), [&](const Face& f) {
-    return materials[f.material].emits();
-  }));
+  return static_cast<std::size_t>(std::count_if(
+      faces.begin(), faces.end(), [&](const Face& f) { return materials[f.material].emits(); }));
 }
 
 bool Scene::is_grey() const {
@@ -118,8 +117,8 @@ std::pair<Camera, bool> side_camera(const Scene& s) {
     cam.eye[best_axis] = (best_sign > 0 ? b.hi[best_axis] : b.lo[best_axis]) + best_sign * dist;
   } else {
     cam.fov_y_deg = 60.0;
-    cam.eye[best_axis] = (best_sign > 0 ? b.hi[best_axis] : b.lo[best_axis]) -
-                         best_sign * 0.02 * e[best_axis];
+    cam.eye[best_axis] =
+        (best_sign > 0 ? b.hi[best_axis] : b.lo[best_axis]) - best_sign * 0.02 * e[best_axis];
   }
   return {cam, open};
 }

@@ -43,11 +43,11 @@ std::uint32_t SceneBuilder::add_material(Material m, const SourceLoc& at) {
                      fmt::format("material '{}': emission ({}, {}, {}) is negative or not finite",
                                  m.name, m.emission[0], m.emission[1], m.emission[2]));
   if ((m.emission > kMaxExitance).any())
-    throw InputError(at.file, at.line,
-                     fmt::format("material '{}': emission ({:g}, {:g}, {:g}) is above {:g} "
-                                 "(results are 32-bit floats, and interreflection multiplies it)",
-                                 m.name, m.emission[0], m.emission[1], m.emission[2],
-                                 kMaxExitance));
+    throw InputError(
+        at.file, at.line,
+        fmt::format("material '{}': emission ({:g}, {:g}, {:g}) is above {:g} "
+                    "(results are 32-bit floats, and interreflection multiplies it)",
+                    m.name, m.emission[0], m.emission[1], m.emission[2], kMaxExitance));
   scene_.materials.push_back(std::move(m));
   return static_cast<std::uint32_t>(scene_.materials.size() - 1);
 }
@@ -71,8 +71,8 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
   for (std::uint32_t i : idx)
     if (i >= scene_.vertices.size())
       throw InputError(at.file, at.line,
-                       fmt::format("vertex index {} is out of range (there are {} vertices)",
-                                   i + 1, scene_.vertices.size()));
+                       fmt::format("vertex index {} is out of range (there are {} vertices)", i + 1,
+                                   scene_.vertices.size()));
   if (material >= scene_.materials.size())
     throw InputError(at.file, at.line, fmt::format("material index {} is out of range", material));
 
@@ -81,7 +81,8 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
   for (std::uint32_t i : idx) p.push_back(scene_.vertices[i]);
   // Zero area, relative to the face's own size (edge lengths), is degenerate.
   double perimeter2 = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) perimeter2 += (p[(i + 1) % p.size()] - p[i]).squaredNorm();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    perimeter2 += (p[(i + 1) % p.size()] - p[i]).squaredNorm();
   const double area = polygon_area(p);
   if (!(area > 1e-12 * perimeter2)) {
     // A face of no area at all, or a sliver: area below 1e-12 of its squared edge
@@ -186,19 +187,21 @@ Scene SceneBuilder::finish(const std::string& file) {
   if (degenerate_faces_ > 0)
     warn(fmt::format("{} degenerate (zero-area) face(s) dropped", degenerate_faces_));
   if (sliver_faces_ > 0)
-    warn(fmt::format("{} sliver face(s) dropped (area below 1e-12 of the squared edge lengths: "
-                     "too thin for a reliable normal)",
-                     sliver_faces_));
+    warn(
+        fmt::format("{} sliver face(s) dropped (area below 1e-12 of the squared edge lengths: "
+                    "too thin for a reliable normal)",
+                    sliver_faces_));
   if (duplicate_faces_ > 0)
-    warn(fmt::format("{} duplicate face(s) dropped (the same vertices in the same order as an "
-                     "earlier face: a coincident copy would reflect and emit the same light "
-                     "twice)",
-                     duplicate_faces_));
+    warn(
+        fmt::format("{} duplicate face(s) dropped (the same vertices in the same order as an "
+                    "earlier face: a coincident copy would reflect and emit the same light "
+                    "twice)",
+                    duplicate_faces_));
   if (triangulated_faces_ > 0)
     warn(fmt::format("{} non-planar or non-convex polygon(s) triangulated", triangulated_faces_));
-  if (scene_.faces.empty()) throw InputError(file, 0, "the scene has no polygon with positive area");
-  if (scene_.emitter_count() == 0)
-    warn("no face emits light: the solution is zero everywhere");
+  if (scene_.faces.empty())
+    throw InputError(file, 0, "the scene has no polygon with positive area");
+  if (scene_.emitter_count() == 0) warn("no face emits light: the solution is zero everywhere");
   return std::move(scene_);
 }
 

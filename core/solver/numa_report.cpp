@@ -74,8 +74,10 @@ void record_numa_stats(IterationStats& is, const RefineCounters& rc, const PinPl
   for (const auto& [page, node] : hierarchy.sample_pages(kPlacementCheckPages)) {
     ++pc.pages;
     const int os = topology.node_of_address(page);
-    if (os < 0) ++pc.unknown;
-    else if (os == node) ++pc.agree;
+    if (os < 0)
+      ++pc.unknown;
+    else if (os == node)
+      ++pc.agree;
   }
   if (pc.agree + pc.unknown < pc.pages)
     add_once(warnings, fmt::format("placement: the OS has some arena pages on another node than "

@@ -160,8 +160,7 @@ void gather_one(Element& e, bool cosine, const Value& value, bool open_area = tr
     dir.fill(Rgb::Zero());
     for (const Link& l : e.links) {
       const Vec3 d = (l.source->center - e.center).normalized();
-      const double projected =
-          open_area ? e.light->projected_open_area(d) : e.projected_area(d);
+      const double projected = open_area ? e.light->projected_open_area(d) : e.projected_area(d);
       if (!(projected > 0)) continue;
       const Rgb facing = value(l) * (e.area / projected);
       for (int a = 0; a < 3; ++a)
@@ -406,7 +405,7 @@ class GatherMatrix {
   std::vector<std::size_t> row_;        // entries of row r: row_[r] .. row_[r + 1]
   std::vector<std::uint32_t> col_;      // value slot of each entry
   std::vector<float> weight_;
-  std::vector<std::uint32_t> axis_;     // per element: its first axis slot (clusters)
+  std::vector<std::uint32_t> axis_;  // per element: its first axis slot (clusters)
   std::size_t slots_ = 0;
 };
 
@@ -452,7 +451,8 @@ class Sweeper {
         elements_, parts_, cosine_, true,
         [&](Element& e) {
           if (m.by_axis(e)) {  // a cosine cluster receiver: what arrives along each axis
-            for (std::size_t k = 0; k < 6; ++k) e.light->arriving[k] = as_rgb(m.gather(e, values, k));
+            for (std::size_t k = 0; k < 6; ++k)
+              e.light->arriving[k] = as_rgb(m.gather(e, values, k));
             e.gathered = Rgb::Zero();
             return;
           }
@@ -485,13 +485,13 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
       [](const Element&) {});
 }
 
-double propagation_sweep(const std::vector<Element*>& elements, int threads,
-                         ClusterReceiver mode, bool grey) {
+double propagation_sweep(const std::vector<Element*>& elements, int threads, ClusterReceiver mode,
+                         bool grey) {
   return relative(Sweeper(elements, threads, mode, grey).sweep());
 }
 
-PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
-                            int max_sweeps, int threads, ClusterReceiver mode, bool grey,
+PropagationResult propagate(const std::vector<Element*>& elements, double tolerance, int max_sweeps,
+                            int threads, ClusterReceiver mode, bool grey,
                             const std::function<void(int sweeps, double change)>& on_sweep) {
   PropagationResult r;
   Sweeper sweeper(elements, threads, mode, grey);  // links do not change here

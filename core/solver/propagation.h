@@ -54,9 +54,9 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
 /// gather three channels.
 /// `on_sweep`, when given, is called on the calling thread after each sweep with the
 /// sweeps done and the last relative change (the progress line).
-PropagationResult propagate(const std::vector<Element*>& elements, double tolerance,
-                            int max_sweeps, int threads,
-                            ClusterReceiver mode = ClusterReceiver::Isotropic, bool grey = false,
+PropagationResult propagate(const std::vector<Element*>& elements, double tolerance, int max_sweeps,
+                            int threads, ClusterReceiver mode = ClusterReceiver::Isotropic,
+                            bool grey = false,
                             const std::function<void(int sweeps, double change)>& on_sweep = {});
 
 /// One Jacobi sweep (gather + push-pull), B <- B'; returns the relative change.

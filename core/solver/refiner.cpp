@@ -17,7 +17,7 @@ struct alignas(64) Refiner::Worker {
   RefineCounters c;
   /// Links accepted in the current block, stored after it (see store_links).
   std::vector<std::pair<Element*, Link>> accepted;
-  std::vector<Link> batch;  ///< one receiver's accepted links, for store_links
+  std::vector<Link> batch;        ///< one receiver's accepted links, for store_links
   std::vector<Element*> started;  ///< receivers whose first link this worker stored
 };
 
@@ -125,19 +125,22 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
       return;
     }
   }
-  const Step step =
-      pc == PairClass::Regular ? judge(task, w, est) : open_pair(pc, task, w, est);
+  const Step step = pc == PairClass::Regular ? judge(task, w, est) : open_pair(pc, task, w, est);
   if (step.drop) return;
   if (step.accept) {
-    w.accepted.emplace_back(&r, Link{&s, static_cast<float>(est.form_factor),
-                                      static_cast<float>(est.visibility)});
-    if (task.evaluated) ++w.c.links_kept; else ++w.c.links_created;
+    w.accepted.emplace_back(
+        &r, Link{&s, static_cast<float>(est.form_factor), static_cast<float>(est.visibility)});
+    if (task.evaluated)
+      ++w.c.links_kept;
+    else
+      ++w.c.links_created;
     return;
   }
   Element& split = step.split_r ? r : s;
   const std::span<Element> kids =
       split.is_cluster() ? split.child_span() : hierarchy_.subdivide(split, w.id, element_locks_);
-  const float child_priority = static_cast<float>(step.error / std::max<std::size_t>(kids.size(), 1));
+  const float child_priority =
+      static_cast<float>(step.error / std::max<std::size_t>(kids.size(), 1));
   for (Element& c : kids) {
     Task t;  // its id is the driver's (core/stage/run_stage.h)
     t.receiver = step.split_r ? &c : &r;
@@ -174,9 +177,8 @@ Refiner::Step Refiner::open_pair(PairClass pc, const Task& task, Worker& w, Link
   }
   if (st.accept) {
     est.form_factor = transport_.form_factor(r, s);
-    est.visibility = est.form_factor > 0
-                         ? transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped)
-                         : 0.0;
+    est.visibility =
+        est.form_factor > 0 ? transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped) : 0.0;
   }
   return st;
 }
@@ -332,8 +334,8 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
   return total;
 }
 
-void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements,
-                           int threads, std::vector<Task>& tasks) {
+void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements, int threads,
+                           std::vector<Task>& tasks) {
   // Each element's tasks go to a fixed place (a prefix sum of the link counts), so
   // the list is the same whatever the thread count, and is filled in parallel.
   const auto n = static_cast<std::ptrdiff_t>(elements.size());

@@ -50,25 +50,26 @@ struct RefineCounters {
   std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
   std::uint64_t culled = 0;         ///< pairs that cannot exchange light
   std::uint64_t rays_cast = 0;
-  std::uint64_t rays_skipped = 0;   ///< rays not cast thanks to culling
-  double busy_s = 0;                ///< summed over refiners: wall time in the refinement loop, less idle and loading
-  double idle_s = 0;                ///< summed over refiners: waiting for tasks
+  std::uint64_t rays_skipped = 0;  ///< rays not cast thanks to culling
+  double busy_s =
+      0;  ///< summed over refiners: wall time in the refinement loop, less idle and loading
+  double idle_s = 0;  ///< summed over refiners: waiting for tasks
   /// Summed over refiners: CPU time of the refiner's thread over the whole stage
   /// (its own clock, core/base/clock.h), which stops while the thread waits for a core.
   double cpu_s = 0;
-  int peak_parallelism = 0;         ///< most refiners busy at once
-  double load_s = 0;                ///< summed over refiners: time loading initial tasks
-  std::uint64_t link_bytes = 0;     ///< bytes in the refiner's link arena after compaction
+  int peak_parallelism = 0;      ///< most refiners busy at once
+  double load_s = 0;             ///< summed over refiners: time loading initial tasks
+  std::uint64_t link_bytes = 0;  ///< bytes in the refiner's link arena after compaction
   /// Time to compact the stage's link lists (core/hierarchy/link_list.h) after the last task:
   /// per refiner, and in the total the longest.
   double compact_s = 0;
-  std::uint64_t takes = 0;          ///< take() calls that returned tasks
-  std::uint64_t submits = 0;        ///< submit() calls
+  std::uint64_t takes = 0;    ///< take() calls that returned tasks
+  std::uint64_t submits = 0;  ///< submit() calls
   /// Tasks whose receiver's memory (Element::home_node) is on this refiner's node,
   /// and on another node (see set_binding).
   std::uint64_t tasks_local = 0, tasks_remote = 0;
-  const char* bound = "none";       ///< per refiner: what bind_thread said (core/parallel/pin_plan.h)
-  std::string bind_warning;         ///< per refiner: why binding failed, if it did
+  const char* bound = "none";  ///< per refiner: what bind_thread said (core/parallel/pin_plan.h)
+  std::string bind_warning;    ///< per refiner: why binding failed, if it did
   /// The stage stopped because its arenas passed RefineLimits::max_bytes (it is then
   /// unfinished); `arena_bytes` is what they held when that was seen.
   bool over_memory = false;
@@ -119,8 +120,8 @@ class Refiner {
   /// With `trace_iteration` > 0, records every task (core/parallel/trace.h) under that
   /// iteration number.
   /// `initial` is read (and its trace ids set) in place; the caller keeps it.
-  RefineCounters run(IScheduler& scheduler, std::span<Task> initial, int threads,
-                     int block_size, int trace_iteration = 0);
+  RefineCounters run(IScheduler& scheduler, std::span<Task> initial, int threads, int block_size,
+                     int trace_iteration = 0);
 
   /// Tasks for the next iteration: every stored link, removed from its receiver
   /// (call between stages only; `elements` must be all of the hierarchy's, and the
@@ -129,8 +130,8 @@ class Refiner {
   /// any thread count: elements in the given order, each one's links in list order.
   /// `tasks` is resized to the link count and overwritten: pass the previous
   /// iteration's vector, so that its memory (and its pages) are reused.
-  static void reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements,
-                           int threads, std::vector<Task>& tasks);
+  static void reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements, int threads,
+                           std::vector<Task>& tasks);
 
  private:
   struct Worker;

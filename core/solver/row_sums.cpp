@@ -53,8 +53,7 @@ double estimate_escape(const Element& e, const Hierarchy& h, const RayScene& ray
 
 RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
                            ClusterReceiver receiver, const Hierarchy& hierarchy,
-                           const RayScene& rays, int escape_rays, std::uint64_t seed,
-                           int threads) {
+                           const RayScene& rays, int escape_rays, std::uint64_t seed, int threads) {
   RowSumStats st;
   // Push the transport totals down like irradiance from a unit radiosity: `next` is
   // scratch here (propagation overwrites it).

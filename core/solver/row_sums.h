@@ -43,17 +43,16 @@ struct RowSumStats {
   /// Share of the leaves' open area whose row sum is within kRowSumBand of 1 (in a
   /// closed scene, where every row sum should be 1: issue 13 asks for 99 %).
   double within_band = 0;
-  std::uint64_t corrected = 0;             ///< leaves whose gather_scale is not 1
+  std::uint64_t corrected = 0;  ///< leaves whose gather_scale is not 1
   /// Leaves whose open-area gain was capped (see apply_row_sums), in every mode.
   std::uint64_t open_capped = 0;
-  std::uint64_t rays_cast = 0;             ///< escape rays cast by this call
+  std::uint64_t rays_cast = 0;  ///< escape rays cast by this call
 };
 
 /// Sets every element's gather_scale (parents before children in `elements`).
 /// `receiver` must be the propagation's, so that the sums are what the leaves gather.
 RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
                            ClusterReceiver receiver, const Hierarchy& hierarchy,
-                           const RayScene& rays, int escape_rays, std::uint64_t seed,
-                           int threads);
+                           const RayScene& rays, int escape_rays, std::uint64_t seed, int threads);
 
 }  // namespace hrad

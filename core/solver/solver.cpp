@@ -22,8 +22,8 @@
 #include "schedulers/scheduler.h"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -107,8 +107,9 @@ struct Solver::Impl {
   const Scene& scene;
   SolverOptions options;
   ProgressFn progress;
-  std::unique_ptr<Topology> topology;  ///< binds threads and arena memory (core/parallel/topology.h)
-  PinPlan plan;                        ///< where each refiner runs (core/parallel/pin_plan.h)
+  std::unique_ptr<Topology>
+      topology;  ///< binds threads and arena memory (core/parallel/topology.h)
+  PinPlan plan;  ///< where each refiner runs (core/parallel/pin_plan.h)
   RayScene rays;
   Hierarchy hierarchy;
   Transport transport;
@@ -117,7 +118,7 @@ struct Solver::Impl {
   ClusterReceiver receiver_mode;
   double emitted_power = 0;  ///< sum over faces of area x largest emission channel
   double total_area = 0;
-  Effects effects;           ///< what the scene needs (core/config/effects.h)
+  Effects effects;  ///< what the scene needs (core/config/effects.h)
 
   Impl(const Scene& s, const SolverOptions& o, ProgressFn p)
       : scene(s),
@@ -126,11 +127,10 @@ struct Solver::Impl {
         topology(std::make_unique<Topology>()),
         plan(make_pin_plan(topology->info(), o.pin, o.threads)),
         rays(RayScene::from_scene(s)),
-        hierarchy(build_hierarchy(
-            s, o.threads,
-            ArenaPlacement{o.placement, topology->info().numa_nodes,
-                           plan.worker_nodes(), topology.get()},
-            *topology, plan)),
+        hierarchy(build_hierarchy(s, o.threads,
+                                  ArenaPlacement{o.placement, topology->info().numa_nodes,
+                                                 plan.worker_nodes(), topology.get()},
+                                  *topology, plan)),
         transport(hierarchy, rays, o.visibility_rays, o.seed, o.cluster_model),
         oracle(make_oracle(o.oracle, plugin_params_of(o, "oracle"))),
         row_sum_mode(o.row_sums),
@@ -181,9 +181,12 @@ RunStats Solver::run() {
                             memory_limit_bytes(o.max_memory_gb),
                             m.total_area > 0 ? m.emitted_power / m.total_area : 0.0,
                             o.decision_rays == DecisionRays::Independent};
-  const SchedulerConfig sched_config{o.threads,           o.block_size,
-                                     m.topology->info().numa_nodes, m.plan.worker_nodes(),
-                                     o.pool_order,        plugin_params_of(o, "scheduler")};
+  const SchedulerConfig sched_config{o.threads,
+                                     o.block_size,
+                                     m.topology->info().numa_nodes,
+                                     m.plan.worker_nodes(),
+                                     o.pool_order,
+                                     plugin_params_of(o, "scheduler")};
   RunState r(m.hierarchy, m.transport, *m.oracle, limits, sched_config,
              o.locks_pool > 0 ? o.locks_pool : 2 * o.threads, o.threads);
   RunStats& stats = r.stats;
@@ -209,8 +212,8 @@ RunStats Solver::run() {
     // one (up to an oracle decision that the radiosity's last digits could flip). So it
     // is propagated to gather_tolerance as the last iteration would be, and the run
     // stops after it (with --iterations 1000 every later iteration re-ran the same links).
-    const bool settled = auto_effects && it < o.iterations && it > 1 &&
-                         rc.tasks == rc.links_kept && rc.links_created == 0;
+    const bool settled = auto_effects && it < o.iterations && it > 1 && rc.tasks == rc.links_kept &&
+                         rc.links_created == 0;
     const bool last = it == o.iterations || settled;
     m.propagate_links(r, it, last, elements, is);
     is.propagate_wall_s = seconds_since(t0);
@@ -289,8 +292,8 @@ RefineCounters Solver::Impl::refine(RunState& r, int it, IterationStats& is) {
   r.link_locks.reset_counters();
   auto scheduler = make_scheduler(o.scheduler, r.sched_config);
   const auto t0 = Clock::now();
-  RefineCounters rc = r.refiner.run(*scheduler, r.tasks, o.threads, o.block_size,
-                                    o.trace.empty() ? 0 : it);
+  RefineCounters rc =
+      r.refiner.run(*scheduler, r.tasks, o.threads, o.block_size, o.trace.empty() ? 0 : it);
   throw_if_interrupted();  // the stage was abandoned (core/base/interrupt.h)
   if (rc.over_memory)
     throw std::runtime_error(fmt::format(
@@ -386,11 +389,11 @@ void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<E
                            sweeps, change),
                propagate_base + 0.2 / o.iterations * sweeps / (sweeps + 10.0));
   };
-  if (progress) progress(fmt::format("iteration {}/{}: propagate", it, o.iterations), propagate_base);
-  const PropagationResult pr =
-      propagate(elements, last ? o.gather_tolerance
-                               : std::max(o.gather_tolerance, kIntermediateTolerance),
-                r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep);
+  if (progress)
+    progress(fmt::format("iteration {}/{}: propagate", it, o.iterations), propagate_base);
+  const PropagationResult pr = propagate(
+      elements, last ? o.gather_tolerance : std::max(o.gather_tolerance, kIntermediateTolerance),
+      r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep);
   throw_if_interrupted();
   is.gather_sweeps = pr.sweeps;
   is.max_change = pr.last_change;
@@ -399,9 +402,9 @@ void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<E
         "iteration {}: propagation diverged after {} sweeps (transport row sums above 1)", it,
         pr.sweeps));
   else if (!pr.converged && effects.interreflection.on)
-    r.stats.warnings.push_back(fmt::format(
-        "iteration {}: propagation stopped at the cap of {} sweeps (change {:.3g})", it,
-        pr.sweeps, pr.last_change));
+    r.stats.warnings.push_back(
+        fmt::format("iteration {}: propagation stopped at the cap of {} sweeps (change {:.3g})", it,
+                    pr.sweeps, pr.last_change));
 }
 
 // The iteration's links, elements and memory.
@@ -427,9 +430,10 @@ void Solver::Impl::write_run_trace(const std::vector<TraceRecord>& trace) const 
       {"version", 1},
       {"record_bytes", sizeof(TraceRecord)},
       {"records", trace.size()},
-      {"fields", {"id:u64", "first_child:u64", "start_ns:u64",
-                  "duration_ns:u32 (top bit: first task of a block)", "children:u16",
-                  "worker:u8", "iteration:u8"}},
+      {"fields",
+       {"id:u64", "first_child:u64", "start_ns:u64",
+        "duration_ns:u32 (top bit: first task of a block)", "children:u16", "worker:u8",
+        "iteration:u8"}},
       {"scene", scene.name},
       {"threads", options.threads},
       {"scheduler", options.scheduler},

@@ -166,8 +166,7 @@ double polygon_to_polygon_ff(std::span<const Vec3> recv, std::span<const Vec3> s
 void gauss_legendre_01(std::span<double> nodes, std::span<double> weights) {
   const std::size_t n = std::min(nodes.size(), weights.size());
   switch (n) {
-    case 0:
-      return;
+    case 0: return;
     case 1:
       nodes[0] = 0.5;
       weights[0] = 1.0;
@@ -202,8 +201,7 @@ void gauss_legendre_01(std::span<double> nodes, std::span<double> weights) {
       weights[1] = weights[2] = w_in;
       return;
     }
-    default:
-      break;
+    default: break;
   }
   // Roots z of the Legendre polynomial P_n on [-1, 1] by Newton's iteration from the
   // usual asymptotic guess, largest root first; weight 2 / ((1 - z^2) P_n'(z)^2).

@@ -86,9 +86,9 @@ double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, cons
   return static_cast<double>(open) / kOpenPoints;
 }
 
-OpenStats update_open_fractions(const std::vector<Element*>& elements,
-                                const Hierarchy& hierarchy, const RayScene& rays,
-                                std::uint64_t seed, int threads, bool possible) {
+OpenStats update_open_fractions(const std::vector<Element*>& elements, const Hierarchy& hierarchy,
+                                const RayScene& rays, std::uint64_t seed, int threads,
+                                bool possible) {
   OpenStats st;
   std::uint64_t cast = 0;
   const auto n = static_cast<std::ptrdiff_t>(elements.size());

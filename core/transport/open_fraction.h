@@ -58,9 +58,9 @@ struct OpenStats {
 /// area-weighted mean of its children. With `possible` false (nothing in the scene
 /// can close a point in: visibility is off for it, see core/config/effects.h) every element
 /// is open (w = 1) and no ray is cast.
-OpenStats update_open_fractions(const std::vector<Element*>& elements,
-                                const Hierarchy& hierarchy, const RayScene& rays,
-                                std::uint64_t seed, int threads, bool possible);
+OpenStats update_open_fractions(const std::vector<Element*>& elements, const Hierarchy& hierarchy,
+                                const RayScene& rays, std::uint64_t seed, int threads,
+                                bool possible);
 
 /// The estimate for one surface element, in [0, 1]; adds the rays it cast to
 /// `rays_cast` when given (a contact ray per point, then up to kOpenRays per point and

@@ -6,11 +6,11 @@
 #include "core/transport/form_factor.h"
 
 #include <algorithm>
+#include <array>
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
-#include <array>
 
 namespace hrad {
 
@@ -51,13 +51,13 @@ PairClass Transport::classify(const Element& r, const Element& s) const {
   if (contains(&s, &r)) return PairClass::ReceiverInside;
   if (contains(&r, &s)) return PairClass::SourceInside;
   if (!r.is_cluster()) {
-    const double front =
-        s.is_cluster() ? box_front(s.box, r.normal, r.center) : polygon_front(s.corners(), r.normal, r.center);
+    const double front = s.is_cluster() ? box_front(s.box, r.normal, r.center)
+                                        : polygon_front(s.corners(), r.normal, r.center);
     if (front <= plane_tol_) return PairClass::Cull;  // s wholly behind (or on) r's plane
   }
   if (!s.is_cluster()) {
-    const double front =
-        r.is_cluster() ? box_front(r.box, s.normal, s.center) : polygon_front(r.corners(), s.normal, s.center);
+    const double front = r.is_cluster() ? box_front(r.box, s.normal, s.center)
+                                        : polygon_front(r.corners(), s.normal, s.center);
     if (front <= plane_tol_) return PairClass::Cull;
   }
   if (r.is_cluster() || s.is_cluster()) {
@@ -81,9 +81,9 @@ double centre_ff(const Element& r, const Element& s, bool iso) {
   const Vec3 dir = d / std::sqrt(dist2);
   const double proj_s = s.is_cluster() && iso ? 0.25 * s.area : s.projected_area(-dir);
   const double cos_r = !r.is_cluster() ? std::max(0.0, r.normal.dot(dir))
-                       : iso          ? 0.25
-                       : r.area > 0   ? r.projected_area(dir) / r.area
-                                      : 0.0;
+                       : iso           ? 0.25
+                       : r.area > 0    ? r.projected_area(dir) / r.area
+                                       : 0.0;
   return cos_r * proj_s / (std::numbers::pi * dist2);
 }
 
@@ -174,14 +174,13 @@ double Transport::form_factor(const Element& r, const Element& s) const {
     // r has corners both in front of s's plane and behind it (as classify() measures).
     const bool crosses = polygon_front(rc, s.normal, s.center) > plane_tol_ &&
                          polygon_front(rc, -s.normal, s.center) > plane_tol_;
-    if (!crosses || !(r.area > 0))
-      return polygon_to_polygon_ff(rc, s.corners(), kQuadratureOrder);
+    if (!crosses || !(r.area > 0)) return polygon_to_polygon_ff(rc, s.corners(), kQuadratureOrder);
     const FrontPart part(rc, s.normal, s.center);
     const double share = polygon_area(part.vertices()) / r.area;
     if (!(share > 0)) return 0;
-    return std::clamp(
-        std::min(share, 1.0) * polygon_to_polygon_ff(part.vertices(), s.corners(), kQuadratureOrder),
-        0.0, 1.0);
+    return std::clamp(std::min(share, 1.0) *
+                          polygon_to_polygon_ff(part.vertices(), s.corners(), kQuadratureOrder),
+                      0.0, 1.0);
   }
   int budget = kClusterOpenBudget;
   return std::clamp(cluster_ff(r, s, budget), 0.0, 1.0);
@@ -193,8 +192,7 @@ double Transport::form_factor_from_point(const Vec3& p, const Vec3& n, const Ele
   const double dist2 = d.squaredNorm();
   if (!(dist2 > 0)) return 0;
   const Vec3 dir = d / std::sqrt(dist2);
-  const double proj_s =
-      model_ == ClusterModel::Isotropic ? 0.25 * s.area : s.projected_area(-dir);
+  const double proj_s = model_ == ClusterModel::Isotropic ? 0.25 * s.area : s.projected_area(-dir);
   return std::max(0.0, n.dot(dir)) * proj_s / (std::numbers::pi * dist2);
 }
 
@@ -237,8 +235,11 @@ double Transport::kernel_visibility(SampleA&& sample_a, const Vec3& toward_a, do
     const auto i = static_cast<std::uint64_t>(6 * k);
     const auto strat = [&](int dim) {
       const std::uint64_t p = dim % 2 ? static_cast<std::uint64_t>(k_rays - 1) : 1;
-      const auto stratum = (static_cast<std::uint64_t>(k) * p + offsets[dim]) % static_cast<std::uint64_t>(k_rays);
-      return (static_cast<double>(stratum) + hashed_uniform(key, i + static_cast<std::uint64_t>(dim))) / k_rays;
+      const auto stratum =
+          (static_cast<std::uint64_t>(k) * p + offsets[dim]) % static_cast<std::uint64_t>(k_rays);
+      return (static_cast<double>(stratum) +
+              hashed_uniform(key, i + static_cast<std::uint64_t>(dim))) /
+             k_rays;
     };
     const auto [a, na, fa] = sample_a(strat(0), strat(1), strat(2));
     // The polygons the end points lie on cannot block the segment (it meets each

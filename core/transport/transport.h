@@ -36,7 +36,6 @@ enum class PairClass : std::uint8_t {
   Regular,
 };
 
-
 class Transport {
  public:
   /// Gauss points per direction on a surface receiver (n x n point evaluations).

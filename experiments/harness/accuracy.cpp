@@ -36,8 +36,7 @@ std::string reference_csv(const std::vector<Probe>& probes, const ReferenceResul
 std::string reference_file_name(const std::string& scene) {
   std::string s = scene;
   for (char& c : s)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-'))
-      c = '_';
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-')) c = '_';
   return "reference-" + s + ".csv";
 }
 
@@ -71,8 +70,9 @@ SceneReference scene_reference(const fs::path& dir, const std::string& scene_spe
   o.max_samples = static_cast<std::uint64_t>(a.reference_max_samples);
   o.threads = std::max(1, threads);
   if (!quiet)
-    fmt::print(log, "hrad experiment: path-traced reference for {} ({} probes, {} relative "
-                    "error)...\n",
+    fmt::print(log,
+               "hrad experiment: path-traced reference for {} ({} probes, {} relative "
+               "error)...\n",
                scene_spec, ref.probes.size(), a.reference_rel_error);
   std::fflush(log);
   const PathTracer tracer(scene);

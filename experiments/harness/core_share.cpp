@@ -43,5 +43,4 @@ void bind_to_cpus(const std::vector<int>& cpus) {
         fmt::format("sched_setaffinity({}): {}", format_pu_list(cpus), std::strerror(errno)));
 }
 
-
 }  // namespace hrad::experiment

@@ -21,5 +21,4 @@ namespace hrad::experiment {
 /// `cpus`. Throws std::runtime_error with the system's message when refused.
 void bind_to_cpus(const std::vector<int>& cpus);
 
-
 }  // namespace hrad::experiment

@@ -19,12 +19,11 @@ namespace {
 
 using ojson = nlohmann::ordered_json;
 
-constexpr const char* kTopKeys[] = {"name",        "description", "scenes", "settings",
-                                    "sweep",       "repetitions", "quick",  "plot",
-                                    "accuracy"};
+constexpr const char* kTopKeys[] = {"name",        "description", "scenes", "settings", "sweep",
+                                    "repetitions", "quick",       "plot",   "accuracy"};
 constexpr const char* kQuickKeys[] = {"scenes", "settings", "sweep", "repetitions"};
-constexpr const char* kAccuracyKeys[] = {"probes", "reference_rel_error",
-                                         "reference_max_samples", "floor"};
+constexpr const char* kAccuracyKeys[] = {"probes", "reference_rel_error", "reference_max_samples",
+                                         "floor"};
 
 [[noreturn]] void fail(const std::string& source, const std::string& what) {
   throw std::invalid_argument(fmt::format("{}: {}", source, what));
@@ -48,7 +47,8 @@ nlohmann::json plain(const ojson& j) { return nlohmann::json::parse(j.dump()); }
 
 std::string get_string(const ojson& j, const std::string& key, const std::string& source) {
   if (!j.is_string())
-    fail(source, fmt::format("'{}' must be a string, got {} {}", key, j.type_name(), brief_json(j)));
+    fail(source,
+         fmt::format("'{}' must be a string, got {} {}", key, j.type_name(), brief_json(j)));
   return j.get<std::string>();
 }
 
@@ -116,9 +116,8 @@ nlohmann::json get_settings(const ojson& j, const std::string& key, const std::s
 std::vector<SweepAxis> get_sweep(const ojson& j, const std::string& key,
                                  const std::string& source) {
   if (!j.is_object())
-    fail(source,
-         fmt::format("'{}' must be an object: option key -> list of values, got {}", key,
-                     j.type_name()));
+    fail(source, fmt::format("'{}' must be an object: option key -> list of values, got {}", key,
+                             j.type_name()));
   std::vector<SweepAxis> axes;
   for (const auto& item : j.items()) {
     const OptionInfo* info = find_option(item.key());
@@ -156,10 +155,11 @@ void check_options(const ExperimentConfig& c, const std::string& source, const c
   }
   for (const SweepAxis& a : c.sweep) {
     if (c.settings.contains(a.key))
-      fail(source, fmt::format("'{}' is both in {}settings and in the sweep: keep one", a.key,
-                               part));
+      fail(source,
+           fmt::format("'{}' is both in {}settings and in the sweep: keep one", a.key, part));
     for (const nlohmann::json& v : a.values)
-      checked_apply(base, a.key, ojson(v), source, fmt::format("sweep.{} = {}", a.key, brief_json(v)));
+      checked_apply(base, a.key, ojson(v), source,
+                    fmt::format("sweep.{} = {}", a.key, brief_json(v)));
   }
 }
 
@@ -236,18 +236,24 @@ std::filesystem::path accuracy_probe_file(const AccuracySpec& a, const std::stri
 
 ExperimentConfig parse_experiment_config(const ojson& j, const std::string& source) {
   if (!j.is_object())
-    fail(source, fmt::format("an experiment configuration must be a JSON object, not a {}",
-                             j.type_name()));
+    fail(source,
+         fmt::format("an experiment configuration must be a JSON object, not a {}", j.type_name()));
   check_keys(j, kTopKeys, source, "");
   ExperimentConfig c;
   if (!j.contains("name")) fail(source, "missing key 'name'");
   c.name = get_string(j["name"], "name", source);
-  if (c.name.empty() || !std::all_of(c.name.begin(), c.name.end(), [](char ch) {
-        return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.';
-      }) || c.name[0] == '.')
+  if (c.name.empty() ||
+      !std::all_of(c.name.begin(), c.name.end(),
+                   [](char ch) {
+                     return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' ||
+                            ch == '_' || ch == '.';
+                   }) ||
+      c.name[0] == '.')
     fail(source, fmt::format("'name' must be a non-empty folder name of letters, digits, '-', "
-                             "'_' and '.', got \"{}\"", c.name));
-  if (j.contains("description")) c.description = get_string(j["description"], "description", source);
+                             "'_' and '.', got \"{}\"",
+                             c.name));
+  if (j.contains("description"))
+    c.description = get_string(j["description"], "description", source);
   if (!j.contains("scenes")) fail(source, "missing key 'scenes' (a list of scene specs)");
   c.scenes = get_scenes(j["scenes"], "scenes", source);
   if (j.contains("settings")) c.settings = get_settings(j["settings"], "settings", source);
@@ -260,7 +266,8 @@ ExperimentConfig parse_experiment_config(const ojson& j, const std::string& sour
     } else if (p.is_array()) {
       for (const ojson& s : p) c.plots.push_back(get_string(s, "plot", source));
     } else {
-      fail(source, fmt::format("'plot' must be a string or a list of strings, got {}", brief_json(p)));
+      fail(source,
+           fmt::format("'plot' must be a string or a list of strings, got {}", brief_json(p)));
     }
     for (const std::string& s : c.plots)
       if (s.empty() || s.find_first_of("/\\. ") != std::string::npos)
@@ -321,8 +328,8 @@ void apply_experiment_set(ExperimentConfig& config, const std::string& key_eq_va
   const auto eq = key_eq_value.find('=');
   const std::string source = "--set " + key_eq_value;
   if (eq == std::string::npos || eq == 0)
-    throw std::invalid_argument(fmt::format(
-        "{}: expected key=value (an option key, repetitions or scenes)", source));
+    throw std::invalid_argument(
+        fmt::format("{}: expected key=value (an option key, repetitions or scenes)", source));
   const std::string key = key_eq_value.substr(0, eq);
   const std::string value = key_eq_value.substr(eq + 1);
   if (key == "repetitions") {
@@ -350,8 +357,8 @@ void apply_experiment_set(ExperimentConfig& config, const std::string& key_eq_va
   if (key.rfind("sweep.", 0) == 0) {
     const OptionInfo* info = find_option(key.substr(6));
     if (!info)
-      throw std::invalid_argument(fmt::format("{}: unknown option key '{}'; valid keys: {}",
-                                              source, key.substr(6), option_key_list()));
+      throw std::invalid_argument(fmt::format("{}: unknown option key '{}'; valid keys: {}", source,
+                                              key.substr(6), option_key_list()));
     SweepAxis axis{info->name, {}};
     std::stringstream ss(value);
     for (std::string v; std::getline(ss, v, ',');) {
@@ -378,8 +385,8 @@ void apply_experiment_set(ExperimentConfig& config, const std::string& key_eq_va
   const OptionInfo* info = find_option(key);
   if (!info)
     throw std::invalid_argument(
-        fmt::format("{}: unknown key '{}'; valid keys: repetitions, scenes, sweep.KEY, {}",
-                    source, key, option_key_list()));
+        fmt::format("{}: unknown key '{}'; valid keys: repetitions, scenes, sweep.KEY, {}", source,
+                    key, option_key_list()));
   SolverOptions o = base_options(config);
   apply_option_value(o, key, value, source);
   validate_options(o);

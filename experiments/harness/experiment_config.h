@@ -41,10 +41,10 @@ struct SweepAxis {
 
 /// What --quick changes; an absent part changes nothing.
 struct QuickOverrides {
-  std::vector<std::string> scenes;     ///< replaces `scenes` when non-empty
+  std::vector<std::string> scenes;                     ///< replaces `scenes` when non-empty
   nlohmann::json settings = nlohmann::json::object();  ///< merged over `settings`
-  std::vector<SweepAxis> sweep;        ///< replaces the values of these axes
-  int repetitions = 0;                 ///< replaces `repetitions` when > 0
+  std::vector<SweepAxis> sweep;                        ///< replaces the values of these axes
+  int repetitions = 0;                                 ///< replaces `repetitions` when > 0
 };
 
 /// The `accuracy` block: after each run, irradiance at probe points (Solver::
@@ -62,7 +62,7 @@ struct QuickOverrides {
 ///                        the error metric's absolute floor
 struct AccuracySpec {
   bool enabled = false;
-  std::string probes_all;                     ///< the single file, when `probes` is a string
+  std::string probes_all;  ///< the single file, when `probes` is a string
   std::vector<std::pair<std::string, std::string>> probes_by_scene;  ///< file order
   double reference_rel_error = 0.005;
   std::int64_t reference_max_samples = 1 << 22;

@@ -62,10 +62,10 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
       run_seconds += out.seconds;
       ++summary.ran;
       if (!settings.quiet) {
-        fmt::print(settings.log, "{}\n",
-                   run_line(label, out.seconds, out.accuracy ? &*out.accuracy : nullptr,
-                            seconds_since(start),
-                            run_seconds / summary.ran * (summary.runs - number)));
+        fmt::print(
+            settings.log, "{}\n",
+            run_line(label, out.seconds, out.accuracy ? &*out.accuracy : nullptr,
+                     seconds_since(start), run_seconds / summary.ran * (summary.runs - number)));
         std::fflush(settings.log);
       }
     }

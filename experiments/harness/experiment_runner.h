@@ -52,7 +52,6 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
 /// The progress line after a run: "hrad experiment: LABEL: 1.23 s[, probe error ...];
 /// 4.0 s elapsed, ~8.0 s left" (no newline).
 [[nodiscard]] std::string run_line(const std::string& label, double seconds,
-                                   const AccuracyFigures* accuracy, double elapsed,
-                                   double left);
+                                   const AccuracyFigures* accuracy, double elapsed, double left);
 
 }  // namespace hrad::experiment

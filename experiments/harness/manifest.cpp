@@ -37,10 +37,14 @@ ojson topology_json(std::string& cpu) {
     cpu = t.description;
     ojson nodes = ojson::array();
     for (const NumaNodeInfo& n : t.nodes)
-      nodes.push_back({{"os_index", n.os_index}, {"package", n.package}, {"cores", n.cores},
-                       {"pus", n.pus}, {"cpus", n.cpus}, {"memory_bytes", n.memory_bytes}});
-    return {{"packages", t.packages}, {"numa_nodes", t.numa_nodes}, {"cores", t.cores},
-            {"pus", t.pus}, {"description", t.description}, {"synthetic", t.synthetic},
+      nodes.push_back({{"os_index", n.os_index},
+                       {"package", n.package},
+                       {"cores", n.cores},
+                       {"pus", n.pus},
+                       {"cpus", n.cpus},
+                       {"memory_bytes", n.memory_bytes}});
+    return {{"packages", t.packages}, {"numa_nodes", t.numa_nodes},   {"cores", t.cores},
+            {"pus", t.pus},           {"description", t.description}, {"synthetic", t.synthetic},
             {"nodes", nodes}};
   } catch (const std::exception& e) {
     return {{"error", e.what()}};

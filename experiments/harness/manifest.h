@@ -26,7 +26,7 @@
 namespace hrad::experiment {
 
 struct ManifestInputs {
-  ExperimentConfig config;    ///< resolved
+  ExperimentConfig config;  ///< resolved
   std::string config_file;
   bool quick = false;
   std::vector<std::string> sets;

@@ -175,7 +175,7 @@ double heartbeat_interval(const Options& o) { return std::min(1.0, o.worker_time
 // launcher's. Collective over MPI_COMM_WORLD (every rank calls it once).
 struct Placement {
   std::vector<int> cpus;
-  std::string policy;  // "share k/m of CPUS", "inherit", or why sharing was not possible
+  std::string policy;   // "share k/m of CPUS", "inherit", or why sharing was not possible
   bool shares = false;  // bound to a slice of a host other workers share
 };
 Placement place_ranks(RankCores cores) {
@@ -191,8 +191,8 @@ Placement place_ranks(RankCores cores) {
   mine[0] = static_cast<std::uint64_t>(world_rank());
   for (int c : cpus) mine[1 + c / 64] |= std::uint64_t{1} << (c % 64);
   all.resize(mine.size() * static_cast<std::size_t>(local_size));
-  check(MPI_Allgather(mine.data(), kWords + 1, MPI_UINT64_T, all.data(), kWords + 1,
-                      MPI_UINT64_T, local),
+  check(MPI_Allgather(mine.data(), kWords + 1, MPI_UINT64_T, all.data(), kWords + 1, MPI_UINT64_T,
+                      local),
         "MPI_Allgather");
   MPI_Comm_free(&local);
   Placement p{cpus, "inherit"};
@@ -215,8 +215,8 @@ Placement place_ranks(RankCores cores) {
     return p;
   }
   if (static_cast<int>(cpus.size()) < m) {
-    p.policy = fmt::format("inherit ({} workers on this host, {} CPUs: too few to share)", m,
-                           cpus.size());
+    p.policy =
+        fmt::format("inherit ({} workers on this host, {} CPUs: too few to share)", m, cpus.size());
     return p;
   }
   p.cpus = cpu_slice(cpus, k, m);
@@ -230,8 +230,8 @@ ojson rank_info(const Placement& place, const char* role) {
   ojson topo = ojson::object();
   try {
     const TopologyInfo t = discover_topology();
-    topo = {{"packages", t.packages}, {"numa_nodes", t.numa_nodes}, {"cores", t.cores},
-            {"pus", t.pus}, {"description", t.description}, {"synthetic", t.synthetic}};
+    topo = {{"packages", t.packages}, {"numa_nodes", t.numa_nodes},   {"cores", t.cores},
+            {"pus", t.pus},           {"description", t.description}, {"synthetic", t.synthetic}};
   } catch (const std::exception& e) {
     topo = {{"error", e.what()}};
   }
@@ -299,9 +299,9 @@ Message from_coordinator(const Options& o) {
     if (interrupted()) throw_if_interrupted();
     const double waited = now_s() - start;
     if (waited > o.worker_timeout_s)
-      throw std::runtime_error(fmt::format(
-          "rank {}: rank 0 not heard from for {:g} s: taking it for lost and stopping",
-          world_rank(), o.worker_timeout_s));
+      throw std::runtime_error(
+          fmt::format("rank {}: rank 0 not heard from for {:g} s: taking it for lost and stopping",
+                      world_rank(), o.worker_timeout_s));
     nap(backoff, waited < 0.1 ? kHandoffNapS : kWaitingNapS);
   }
 }
@@ -332,14 +332,14 @@ ExperimentSummary work(const ManifestInputs& inputs, const std::vector<SweepPoin
       return summary;
     }
     if (m.tag != kAssign)
-      throw std::runtime_error(fmt::format("rank {}: unexpected message (tag {})", world_rank(),
-                                           m.tag));
+      throw std::runtime_error(
+          fmt::format("rank {}: unexpected message (tag {})", world_rank(), m.tag));
     const auto a = nlohmann::json::parse(m.body);
     const RunId id{a.at("point").get<int>(), a.at("repetition").get<int>()};
     const double wait_s = now_s() - idle_since;
     if (id.point < 0 || id.point >= static_cast<int>(points.size()))
-      throw std::runtime_error(fmt::format("rank {}: point {} is not in the sweep", world_rank(),
-                                           id.point));
+      throw std::runtime_error(
+          fmt::format("rank {}: point {} is not in the sweep", world_rank(), id.point));
     if (!executor)
       executor.emplace(inputs.config, fs::path(a.at("dir").get<std::string>()), settings.log,
                        /*quiet=*/true, /*cached_references_only=*/true);
@@ -360,7 +360,9 @@ ExperimentSummary work(const ManifestInputs& inputs, const std::vector<SweepPoin
     }
     if (!outcome) {
       out.send(0, kFailed,
-               ojson{{"point", id.point}, {"repetition", id.repetition}, {"error", error},
+               ojson{{"point", id.point},
+                     {"repetition", id.repetition},
+                     {"error", error},
                      {"signal", signal}}
                    .dump());
       out.drain(o.worker_timeout_s);
@@ -435,9 +437,8 @@ class Coordinator {
       summary_.skipped = folder_->skipped();
       number_ = summary_.skipped;
       if (!settings_.quiet)
-        fmt::print(settings_.log,
-                   "hrad experiment: {} ranks: rank 0 coordinates, {} workers{}\n", world_size(),
-                   workers_.size(),
+        fmt::print(settings_.log, "hrad experiment: {} ranks: rank 0 coordinates, {} workers{}\n",
+                   world_size(), workers_.size(),
                    summary_.skipped > 0
                        ? fmt::format("; resuming {}: {} of {} runs already done",
                                      settings_.dir.string(), summary_.skipped, summary_.runs)
@@ -486,10 +487,9 @@ class Coordinator {
         for (const std::string& s : scenes) {
           if (fs::exists(settings_.dir / reference_file_name(s))) continue;
           const Scene scene = load_scene(s);
-          (void)scene_reference(
-              settings_.dir, s, scene, inputs_.config.accuracy,
-              static_cast<int>(std::max(1u, std::thread::hardware_concurrency())),
-              settings_.log, settings_.quiet);
+          (void)scene_reference(settings_.dir, s, scene, inputs_.config.accuracy,
+                                static_cast<int>(std::max(1u, std::thread::hardware_concurrency())),
+                                settings_.log, settings_.quiet);
         }
       } catch (...) {
         error = std::current_exception();
@@ -532,8 +532,10 @@ class Coordinator {
     if (!id) return;
     const SweepPoint& p = points_[static_cast<std::size_t>(id->point)];
     out_.send(w, kAssign,
-              ojson{{"point", id->point}, {"repetition", id->repetition},
-                    {"dir", settings_.dir.string()}, {"immediate", immediate}}
+              ojson{{"point", id->point},
+                    {"repetition", id->repetition},
+                    {"dir", settings_.dir.string()},
+                    {"immediate", immediate}}
                   .dump());
     if (p.options.pin != PinPolicy::None && shared_hosts_ && !warned_pin_) {
       warned_pin_ = true;
@@ -547,8 +549,8 @@ class Coordinator {
       warned_threads_ = true;
       notes_.push_back(fmt::format(
           "point {} runs {} threads on a worker of {} CPUs: its threads share cores, and its "
-          "times are not those of a dedicated machine", p.index,
-          p.options.threads, min_worker_cpus_));
+          "times are not those of a dedicated machine",
+          p.index, p.options.threads, min_worker_cpus_));
     }
   }
 
@@ -570,8 +572,10 @@ class Coordinator {
     ++summary_.ran;
     ++number_;
     run_seconds_ += seconds;
-    session_["runs"].push_back({{"point", id.point}, {"repetition", id.repetition},
-                                {"rank", m.source}, {"seconds", seconds},
+    session_["runs"].push_back({{"point", id.point},
+                                {"repetition", id.repetition},
+                                {"rank", m.source},
+                                {"seconds", seconds},
                                 {"wait_s", r.value("wait_s", 0.0)},
                                 {"immediate", r.value("immediate", false)}});
     if (!settings_.quiet) {
@@ -606,19 +610,21 @@ class Coordinator {
     for (const auto& info : session_["ranks_info"])
       if (info.value("rank", -1) == loss.worker) host = info.value("host", "?");
     const std::string what =
-        loss.run ? fmt::format("its run (point {}, repetition {}) {}", loss.run->point,
-                               loss.run->repetition + 1,
-                               loss.requeued ? "goes to another rank"
-                                             : "was lost once already and is given up")
-                 : std::string("it never said ready");
-    const std::string line =
-        fmt::format("rank {} ({}) silent for {:.1f} s, taken for dead; {}", loss.worker, host,
-                    loss.silent_s, what);
+        loss.run
+            ? fmt::format(
+                  "its run (point {}, repetition {}) {}", loss.run->point, loss.run->repetition + 1,
+                  loss.requeued ? "goes to another rank" : "was lost once already and is given up")
+            : std::string("it never said ready");
+    const std::string line = fmt::format("rank {} ({}) silent for {:.1f} s, taken for dead; {}",
+                                         loss.worker, host, loss.silent_s, what);
     fmt::print(settings_.log, "hrad experiment: {}\n", line);
     std::fflush(settings_.log);
     notes_.push_back(line);
-    ojson entry = {{"rank", loss.worker}, {"host", host}, {"silent_s", loss.silent_s},
-                   {"at", now_iso8601()}, {"requeued", loss.requeued}};
+    ojson entry = {{"rank", loss.worker},
+                   {"host", host},
+                   {"silent_s", loss.silent_s},
+                   {"at", now_iso8601()},
+                   {"requeued", loss.requeued}};
     entry["run"] = loss.run ? run_json(*loss.run) : ojson();
     session_["lost_ranks"].push_back(entry);
     g_skip_finalize = true;
@@ -642,8 +648,8 @@ class Coordinator {
           case kResult: on_result(*m); break;
           case kFailed: on_failed(*m); break;
           default:
-            throw std::runtime_error(fmt::format("rank {}: unexpected message (tag {})",
-                                                 m->source, m->tag));
+            throw std::runtime_error(
+                fmt::format("rank {}: unexpected message (tag {})", m->source, m->tag));
         }
       }
       const double t = now_s();
@@ -682,9 +688,8 @@ class Coordinator {
         {"handoff_wait_mean_s", waits ? wait_sum / waits : 0.0},
         {"handoff_wait_max_s", wait_max},
         {"handoff_waits", waits},
-        {"handoff_fraction_of_run", waits && run_seconds_ > 0 ? (wait_sum / waits) /
-                                                                    (run_seconds_ / n)
-                                                              : 0.0}};
+        {"handoff_fraction_of_run",
+         waits && run_seconds_ > 0 ? (wait_sum / waits) / (run_seconds_ / n) : 0.0}};
     auto& m = folder_->manifest();
     if (!m.contains("mpi")) m["mpi"] = ojson::array();
     m["mpi"].push_back(session_);

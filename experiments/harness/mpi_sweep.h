@@ -52,9 +52,9 @@ struct LaunchInfo {
     const char* v = std::getenv(name);
     return v && *v ? std::atoi(v) : -1;
   };
-  for (const auto& [size, rank] : {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
-                                   std::pair{"PMI_SIZE", "PMI_RANK"},
-                                   std::pair{"PMIX_SIZE", "PMIX_RANK"}}) {
+  for (const auto& [size, rank] :
+       {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
+        std::pair{"PMI_SIZE", "PMI_RANK"}, std::pair{"PMIX_SIZE", "PMIX_RANK"}}) {
     const int s = get(size), r = get(rank);
     if (s >= 1 && r >= 0 && r < s) return {s, r};
   }

@@ -57,9 +57,9 @@ void require_plot_scripts(const std::vector<std::string>& names, const fs::path&
   for (const std::string& name : names) {
     std::error_code ec;
     if (!fs::is_regular_file(plots_dir / (name + ".py"), ec))
-      throw std::invalid_argument(fmt::format(
-          "plot '{}': no script {} (set HRAD_PLOTS_DIR or --plots-dir, or --no-plot)", name,
-          (plots_dir / (name + ".py")).string()));
+      throw std::invalid_argument(
+          fmt::format("plot '{}': no script {} (set HRAD_PLOTS_DIR or --plots-dir, or --no-plot)",
+                      name, (plots_dir / (name + ".py")).string()));
   }
 }
 

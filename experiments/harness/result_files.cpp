@@ -27,8 +27,8 @@ int to_int(const std::string& text, const fs::path& path, std::size_t line, cons
   int v = -1;
   const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (ec != std::errc() || ptr != text.data() + text.size() || v < 0)
-    throw std::runtime_error(
-        fmt::format("{}:{}: {} '{}' is not a non-negative integer", path.string(), line, what, text));
+    throw std::runtime_error(fmt::format("{}:{}: {} '{}' is not a non-negative integer",
+                                         path.string(), line, what, text));
   return v;
 }
 
@@ -39,7 +39,8 @@ std::vector<Row> read_rows(const fs::path& path, const std::vector<std::string>&
   if (csv.rows[0] != columns)
     throw std::runtime_error(fmt::format(
         "{}: the header differs from this hrad's columns (written by another version?); "
-        "resume into a new folder", path.string()));
+        "resume into a new folder",
+        path.string()));
   std::vector<Row> rows;
   for (std::size_t i = 1; i < csv.rows.size(); ++i) {
     if (csv.rows[i].size() != columns.size())
@@ -70,7 +71,8 @@ ResultFiles::ResultFiles(const fs::path& dir) : dir_(dir) {
     std::size_t line = 1;
     for (Row& r : read_rows(runs, rc)) {
       ++line;
-      const RunId id{to_int(r[point], runs, line, "point"), to_int(r[rep], runs, line, "repetition")};
+      const RunId id{to_int(r[point], runs, line, "point"),
+                     to_int(r[rep], runs, line, "repetition")};
       if (done_.count(id))
         throw std::runtime_error(fmt::format("{}:{}: point {} repetition {} appears twice",
                                              runs.string(), line, id.point, id.repetition));
@@ -99,8 +101,8 @@ void ResultFiles::open_for_append() {
   runs_.open(dir_ / kRuns, std::ios::app | std::ios::binary);
   iterations_.open(dir_ / kIterations, std::ios::app | std::ios::binary);
   if (!runs_ || !iterations_)
-    throw std::runtime_error(fmt::format("{}: cannot open the result files for appending",
-                                         dir_.string()));
+    throw std::runtime_error(
+        fmt::format("{}: cannot open the result files for appending", dir_.string()));
 }
 
 void ResultFiles::sort_by_run() {

@@ -34,10 +34,10 @@ void check_rows(const ResultFiles& files, const std::vector<SweepPoint>& points,
                                            id.repetition));
     const SweepPoint& p = points[static_cast<std::size_t>(id.point)];
     if (row[scene] != p.scene || row[swept] != describe_point(p))
-      throw std::runtime_error(fmt::format(
-          "{}: point {} is '{} {}' there but '{} {}' in this sweep",
-          (dir / ResultFiles::kRuns).string(), id.point, row[scene], row[swept], p.scene,
-          describe_point(p)));
+      throw std::runtime_error(
+          fmt::format("{}: point {} is '{} {}' there but '{} {}' in this sweep",
+                      (dir / ResultFiles::kRuns).string(), id.point, row[scene], row[swept],
+                      p.scene, describe_point(p)));
   }
 }
 

@@ -98,9 +98,7 @@ bool RunDispatch::over() const {
                       [](const auto& kv) { return kv.second.state == Worker::State::Busy; });
 }
 
-bool RunDispatch::stranded() const {
-  return !over() && live_workers().empty();
-}
+bool RunDispatch::stranded() const { return !over() && live_workers().empty(); }
 
 std::vector<int> RunDispatch::idle_workers() const {
   std::vector<int> out;

@@ -39,8 +39,8 @@ class RunDispatch {
   struct Loss {
     int worker = 0;
     std::optional<RunId> run;  ///< none: it never said ready
-    double silent_s = 0;  ///< since the worker was last heard from
-    bool requeued = false;  ///< false: the run was already lost once and is given up
+    double silent_s = 0;       ///< since the worker was last heard from
+    bool requeued = false;     ///< false: the run was already lost once and is given up
   };
   /// The busy (and never heard from) workers silent for more than the timeout at `t`,
   /// now taken for dead.

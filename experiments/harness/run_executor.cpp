@@ -20,7 +20,10 @@ namespace fs = std::filesystem;
 
 RunExecutor::RunExecutor(const ExperimentConfig& config, fs::path dir, std::FILE* log, bool quiet,
                          bool cached_references_only)
-    : config_(config), dir_(std::move(dir)), log_(log), quiet_(quiet),
+    : config_(config),
+      dir_(std::move(dir)),
+      log_(log),
+      quiet_(quiet),
       cached_only_(cached_references_only) {}
 
 void RunExecutor::load(const std::string& spec, const SceneLoadOptions& options) {

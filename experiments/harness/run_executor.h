@@ -31,8 +31,8 @@ class RunExecutor {
   /// `cached_references_only`, a reference missing from `dir` is an error instead of
   /// being traced here (MPI workers: rank 0 traces them first, so that every rank
   /// compares against the same reference).
-  RunExecutor(const ExperimentConfig& config, std::filesystem::path dir, std::FILE* log,
-              bool quiet, bool cached_references_only = false);
+  RunExecutor(const ExperimentConfig& config, std::filesystem::path dir, std::FILE* log, bool quiet,
+              bool cached_references_only = false);
 
   /// Runs repetition `repetition` of `p`. `label` prefixes hrad's in-place progress
   /// line (drawn when the log is a terminal and not quiet). Throws what the scene

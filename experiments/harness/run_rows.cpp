@@ -24,10 +24,10 @@ std::string num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : "";
 std::string num(std::uint64_t v) { return fmt::format("{}", v); }
 std::string num(int v) { return fmt::format("{}", v); }
 
-Row identity_and_options(const std::string& config_name, const SweepPoint& point,
-                         int repetition) {
+Row identity_and_options(const std::string& config_name, const SweepPoint& point, int repetition) {
   Row r = {config_name, num(point.index), num(repetition), point.scene, describe_point(point)};
-  for (const OptionInfo& o : option_table()) r.push_back(option_value_string(point.options, o.name));
+  for (const OptionInfo& o : option_table())
+    r.push_back(option_value_string(point.options, o.name));
   return r;
 }
 

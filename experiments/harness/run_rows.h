@@ -45,7 +45,7 @@ struct AccuracyFigures {
 };
 
 struct RunRows {
-  Row run;                   ///< aligned with run_columns()
+  Row run;                      ///< aligned with run_columns()
   std::vector<Row> iterations;  ///< aligned with iteration_columns()
 };
 

@@ -17,11 +17,11 @@
 namespace hrad::experiment {
 
 struct SweepPoint {
-  int index = 0;                  ///< 0-based, in expansion order
-  std::string scene;              ///< scene spec
+  int index = 0;      ///< 0-based, in expansion order
+  std::string scene;  ///< scene spec
   /// The swept keys and this point's values, in axis order.
   std::vector<std::pair<std::string, nlohmann::json>> values;
-  SolverOptions options;          ///< settings + this point's values, validated
+  SolverOptions options;  ///< settings + this point's values, validated
 };
 
 /// One run: a point and a repetition (0-based).

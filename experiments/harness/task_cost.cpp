@@ -7,7 +7,8 @@
 
 namespace hrad::experiment {
 
-void TaskCostTable::add(const std::string& scene, const SolverOptions& options, double task_cpu_ns) {
+void TaskCostTable::add(const std::string& scene, const SolverOptions& options,
+                        double task_cpu_ns) {
   if (!(task_cpu_ns > 0)) return;
   SolverOptions one = options;
   one.threads = 1;
@@ -30,8 +31,7 @@ std::vector<std::string> TaskCostTable::warnings(double ratio) const {
         out.push_back(fmt::format(
             "{} ({} block {}): CPU per task at {} threads is {:.2f}x that at 1 thread ({:.0f} vs "
             "{:.0f} ns, medians): the speed-up includes that extra work",
-            p.scene, p.options.scheduler, p.options.block_size, threads,
-            m / base, m, base));
+            p.scene, p.options.scheduler, p.options.block_size, threads, m / base, m, base));
     }
   }
   return out;

@@ -27,7 +27,7 @@ class TaskCostTable {
  private:
   struct Point {
     std::string scene;
-    SolverOptions options;                       ///< with threads = 1
+    SolverOptions options;                          ///< with threads = 1
     std::map<int, std::vector<double>> by_threads;  ///< threads -> CPU ns per task
   };
   // key: scene and every option but threads (as JSON)

@@ -65,7 +65,8 @@ void BM_Handoff(benchmark::State& state) {
           write_batch(batches[static_cast<std::size_t>(t)].get(), static_cast<std::uint64_t>(r));
           sync.arrive_and_wait();
           const int from = own ? t : (t + 1) % threads;
-          acc[static_cast<std::size_t>(t)] += refine_batch(batches[static_cast<std::size_t>(from)].get());
+          acc[static_cast<std::size_t>(t)] +=
+              refine_batch(batches[static_cast<std::size_t>(from)].get());
           sync.arrive_and_wait();
         }
       });
@@ -74,7 +75,8 @@ void BM_Handoff(benchmark::State& state) {
     for (double a : acc) sink += a;
   }
   benchmark::DoNotOptimize(sink);
-  state.SetItemsProcessed(state.iterations() * kRounds * static_cast<std::int64_t>(kBatch) * threads);
+  state.SetItemsProcessed(state.iterations() * kRounds * static_cast<std::int64_t>(kBatch) *
+                          threads);
   state.SetLabel(own ? "own data" : "data from the other thread");
 }
 

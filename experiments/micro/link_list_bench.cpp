@@ -44,7 +44,8 @@ struct Lists {
       const Link l{&sources[static_cast<std::size_t>(source(rng))], 0.01f, 1.0f};
       lists[static_cast<std::size_t>(r)].append({&l, 1}, staging);
     }
-    for (int r = 0; r < kReceivers; ++r) sources[static_cast<std::size_t>(r)].B = hrad::Rgb(1, 2, 3);
+    for (int r = 0; r < kReceivers; ++r)
+      sources[static_cast<std::size_t>(r)].B = hrad::Rgb(1, 2, 3);
     links = order.size();
     if (compact)
       for (LinkList& l : lists) l.compact(compacted);

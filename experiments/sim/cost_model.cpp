@@ -17,9 +17,8 @@ namespace hrad::sim {
 namespace {
 
 const std::pair<const char*, Policy> kPolicies[] = {
-    {"stack", Policy::kStack},       {"fifo", Policy::kFifo},
-    {"priority", Policy::kPriority}, {"blocked", Policy::kBlocked},
-    {"stealing", Policy::kStealing},
+    {"stack", Policy::kStack},     {"fifo", Policy::kFifo},         {"priority", Policy::kPriority},
+    {"blocked", Policy::kBlocked}, {"stealing", Policy::kStealing},
 };
 
 // Registered schedulers with no Policy, each decided on. A new scheduler goes here or
@@ -32,12 +31,18 @@ const char* const kNotModelled[] = {
 
 // Field name -> member, for the JSON file and its echo.
 const std::pair<const char*, double CostModel::*> kFields[] = {
-    {"take_op_ns", &CostModel::take_op_ns},       {"take_task_ns", &CostModel::take_task_ns},
-    {"submit_op_ns", &CostModel::submit_op_ns},   {"submit_task_ns", &CostModel::submit_task_ns},
-    {"copy_task_ns", &CostModel::copy_task_ns},   {"local_op_ns", &CostModel::local_op_ns},
-    {"local_task_ns", &CostModel::local_task_ns}, {"steal_op_ns", &CostModel::steal_op_ns},
-    {"steal_task_ns", &CostModel::steal_task_ns}, {"block_ns", &CostModel::block_ns},
-    {"task_ns", &CostModel::task_ns},     {"start_ns", &CostModel::start_ns},
+    {"take_op_ns", &CostModel::take_op_ns},
+    {"take_task_ns", &CostModel::take_task_ns},
+    {"submit_op_ns", &CostModel::submit_op_ns},
+    {"submit_task_ns", &CostModel::submit_task_ns},
+    {"copy_task_ns", &CostModel::copy_task_ns},
+    {"local_op_ns", &CostModel::local_op_ns},
+    {"local_task_ns", &CostModel::local_task_ns},
+    {"steal_op_ns", &CostModel::steal_op_ns},
+    {"steal_task_ns", &CostModel::steal_task_ns},
+    {"block_ns", &CostModel::block_ns},
+    {"task_ns", &CostModel::task_ns},
+    {"start_ns", &CostModel::start_ns},
     {"slowdown", &CostModel::slowdown},
 };
 
@@ -132,7 +137,8 @@ void load_costs(const std::filesystem::path& file, CostModel& costs) {
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(e.what());
   }
-  if (!j.is_object()) throw std::runtime_error(file.string() + ": the cost file must hold one JSON object");
+  if (!j.is_object())
+    throw std::runtime_error(file.string() + ": the cost file must hold one JSON object");
   for (const auto& [key, value] : j.items()) {
     double CostModel::*field = nullptr;
     for (const auto& [n, f] : kFields)

@@ -42,7 +42,11 @@ class IterationReplay {
  public:
   IterationReplay(const IterationGraph& g, const SimConfig& c, IterationResult& out,
                   const std::function<void(std::uint64_t)>& on_tasks)
-      : g_(g), c_(c), k_(c.costs), out_(out), on_tasks_(on_tasks),
+      : g_(g),
+        c_(c),
+        k_(c.costs),
+        out_(out),
+        on_tasks_(on_tasks),
         block_(static_cast<std::size_t>(c.block_size)),
         slow_(c.procs >= 2 ? c.costs.slowdown : 1.0),
         procs_(static_cast<std::size_t>(c.procs)),
@@ -59,7 +63,8 @@ class IterationReplay {
     // to take (as the refiners do, core/solver/refiner.h).
     const double start = k_.start_ns;
     out_.overhead_ns += start * static_cast<double>(procs_.size());
-    for (std::size_t p = 0; p < procs_.size(); ++p) schedule(start, static_cast<int>(p), EventKind::kTake);
+    for (std::size_t p = 0; p < procs_.size(); ++p)
+      schedule(start, static_cast<int>(p), EventKind::kTake);
     while (!events_.empty()) {
       const Event e = events_.top();
       events_.pop();
@@ -145,7 +150,8 @@ class IterationReplay {
           const std::size_t v = (start + i) % procs_.size();
           if (v == static_cast<std::size_t>(p) || deques_[v].empty()) continue;
           const std::size_t n = std::min(block_, (deques_[v].size() + 1) / 2);
-          ready = acquire(deque_locks_[v], t, k_.steal_op_ns + static_cast<double>(n) * k_.steal_task_ns);
+          ready = acquire(deque_locks_[v], t,
+                          k_.steal_op_ns + static_cast<double>(n) * k_.steal_task_ns);
           pop(deques_[v], n, true, me.block);
           out_.steals += n;
           break;

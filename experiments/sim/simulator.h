@@ -43,8 +43,9 @@ struct SimConfig {
   int procs = 1;
   int block_size = 1;
   CostModel costs;
-  int load_chunk = static_cast<int>(kStageLoadChunk);  ///< initial tasks per load (core/stage/run_stage.h)
-  bool keep_executions = false;  ///< fill IterationResult::executions (tests)
+  int load_chunk =
+      static_cast<int>(kStageLoadChunk);  ///< initial tasks per load (core/stage/run_stage.h)
+  bool keep_executions = false;           ///< fill IterationResult::executions (tests)
 };
 
 /// Time shares summed over processors, in ns; busy + overhead + lock_wait + idle =

@@ -49,7 +49,8 @@ IterationGraph build_iteration(const std::vector<TraceRecord>& records,
   // Record index -> new index; also catches a task created twice.
   std::unordered_map<std::size_t, std::uint32_t> new_index;
   new_index.reserve(members.size() * 2);
-  for (std::size_t i = 0; i < roots.size(); ++i) new_index.emplace(roots[i], static_cast<std::uint32_t>(i));
+  for (std::size_t i = 0; i < roots.size(); ++i)
+    new_index.emplace(roots[i], static_cast<std::uint32_t>(i));
   g.tasks.resize(members.size());
   for (std::size_t k = 0; k < order.size(); ++k) {
     const TraceRecord& r = records[order[k]];
@@ -65,16 +66,16 @@ IterationGraph build_iteration(const std::vector<TraceRecord>& records,
             "{}: iteration {}: task {:#x} created task {:#x}, which is not in the trace", what,
             iteration, r.id, cid));
       if (!new_index.emplace(it->second, static_cast<std::uint32_t>(order.size())).second)
-        throw std::runtime_error(fmt::format(
-            "{}: iteration {}: task {:#x} is created twice (or is an initial task)", what,
-            iteration, cid));
+        throw std::runtime_error(
+            fmt::format("{}: iteration {}: task {:#x} is created twice (or is an initial task)",
+                        what, iteration, cid));
       order.push_back(it->second);
     }
   }
   if (order.size() != members.size())
-    throw std::runtime_error(fmt::format(
-        "{}: iteration {}: {} of {} tasks are not reachable from the initial tasks", what,
-        iteration, members.size() - order.size(), members.size()));
+    throw std::runtime_error(
+        fmt::format("{}: iteration {}: {} of {} tasks are not reachable from the initial tasks",
+                    what, iteration, members.size() - order.size(), members.size()));
   g.roots = static_cast<std::uint32_t>(roots.size());
 
   // Children have larger indices than their parent: one backward pass.
@@ -82,11 +83,13 @@ IterationGraph build_iteration(const std::vector<TraceRecord>& records,
   for (std::size_t k = g.tasks.size(); k-- > 0;) {
     const SimTask& t = g.tasks[k];
     std::uint64_t longest = 0;
-    for (std::uint32_t c = 0; c < t.children; ++c) longest = std::max(longest, path[t.first_child + c]);
+    for (std::uint32_t c = 0; c < t.children; ++c)
+      longest = std::max(longest, path[t.first_child + c]);
     path[k] = t.duration_ns + longest;
     g.work_ns += t.duration_ns;
   }
-  for (std::uint32_t i = 0; i < g.roots; ++i) g.critical_path_ns = std::max(g.critical_path_ns, path[i]);
+  for (std::uint32_t i = 0; i < g.roots; ++i)
+    g.critical_path_ns = std::max(g.critical_path_ns, path[i]);
   return g;
 }
 
@@ -108,7 +111,8 @@ TaskGraph build_task_graph(const std::vector<TraceRecord>& records, const std::s
   std::map<int, std::vector<std::size_t>> by_iteration;
   for (std::size_t i = 0; i < records.size(); ++i) {
     if (records[i].iteration == 0)
-      throw std::runtime_error(fmt::format("{}: record {}: iteration 0 (iterations are 1-based)", what, i));
+      throw std::runtime_error(
+          fmt::format("{}: record {}: iteration 0 (iterations are 1-based)", what, i));
     by_iteration[records[i].iteration].push_back(i);
   }
   TaskGraph graph;
@@ -126,7 +130,8 @@ GapStats gap_stats(const std::vector<TraceRecord>& records) {
               [](const TraceRecord* a, const TraceRecord* b) { return a->start_ns < b->start_ns; });
     for (std::size_t i = 1; i < lane.size(); ++i) {
       const std::uint64_t prev_end = lane[i - 1]->start_ns + duration_of(*lane[i - 1]);
-      const double gap = lane[i]->start_ns > prev_end ? static_cast<double>(lane[i]->start_ns - prev_end) : 0.0;
+      const double gap =
+          lane[i]->start_ns > prev_end ? static_cast<double>(lane[i]->start_ns - prev_end) : 0.0;
       ((lane[i]->duration_ns & TraceRecord::kBlockStart) ? block_gaps : task_gaps).push_back(gap);
     }
   }
@@ -149,6 +154,8 @@ GapStats gap_stats(const std::vector<TraceRecord>& records) {
   return g;
 }
 
-double median_block_gap_ns(const std::vector<TraceRecord>& records) { return gap_stats(records).block_median; }
+double median_block_gap_ns(const std::vector<TraceRecord>& records) {
+  return gap_stats(records).block_median;
+}
 
 }  // namespace hrad::sim

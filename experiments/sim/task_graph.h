@@ -28,9 +28,9 @@ struct SimTask {
 };
 
 struct IterationGraph {
-  int iteration = 0;           ///< 1-based, as in the trace
-  std::uint32_t roots = 0;     ///< initial tasks: indices 0 .. roots - 1
-  std::vector<SimTask> tasks;  ///< breadth-first order (see the file comment)
+  int iteration = 0;                   ///< 1-based, as in the trace
+  std::uint32_t roots = 0;             ///< initial tasks: indices 0 .. roots - 1
+  std::vector<SimTask> tasks;          ///< breadth-first order (see the file comment)
   std::uint64_t work_ns = 0;           ///< sum of durations
   std::uint64_t critical_path_ns = 0;  ///< longest root-to-leaf sum of durations
   std::uint64_t measured_span_ns = 0;  ///< trace: latest task end (start + duration)
@@ -47,7 +47,8 @@ struct TaskGraph {
 /// Builds the per-iteration DAGs. Throws std::runtime_error (prefixed by `what`, e.g.
 /// the file name) when the records do not form a forest: a child id that is not in
 /// the trace, a task created twice, a duplicate id, an iteration number of 0.
-TaskGraph build_task_graph(const std::vector<TraceRecord>& records, const std::string& what = "trace");
+TaskGraph build_task_graph(const std::vector<TraceRecord>& records,
+                           const std::string& what = "trace");
 
 /// Time the trace shows between tasks of one worker in one iteration, in ns. Between
 /// blocks: storing the block's links, submit, take, idle time. Inside a block: the

@@ -61,11 +61,11 @@ void add_fuselage(Shapes& s, const Tube& t, const Palette& p) {
   const double a0 = t.phi0(), a1 = 2 * std::numbers::pi - a0;
   auto arc = [&](int j, double z) { return t.at(a0 + (a1 - a0) * j / t.segments, z); };
   // i along z, j along the arc: d/dz x d/dphi points to the axis (inward).
-  s.surface(world, nz, t.segments,
-            [&](int i, int j) { return arc(j, t.L * i / nz); }, p.fuselage);
+  s.surface(
+      world, nz, t.segments, [&](int i, int j) { return arc(j, t.L * i / nz); }, p.fuselage);
   const double wf = std::sqrt(t.R * t.R - t.yc * t.yc);
-  s.grid(world, Vec3(-wf, 0, 0), Vec3(0, 0, t.L), Vec3(2 * wf, 0, 0), nz,
-         cells_for(2 * wf, kCell), p.floor);
+  s.grid(world, Vec3(-wf, 0, 0), Vec3(0, 0, t.L), Vec3(2 * wf, 0, 0), nz, cells_for(2 * wf, kCell),
+         p.floor);
   // Bulkheads: rings of trapezoids around (0, yc) out to the arc and the floor chord;
   // the arc runs counter-clockwise seen from +z, so (centre, a_j, a_j+1) faces +z.
   const int rings = cells_for(t.R, kCell);
@@ -98,16 +98,14 @@ void add_bins_and_strips(Shapes& s, const Tube& t, const Palette& p) {
   const int nz = cells_for(z1 - z0, kCell);
   const Frame world;
   for (const double side : {1.0, -1.0}) {
-    std::array<Eigen::Vector2d, 4> prof = {Eigen::Vector2d(side * xi, yb),
-                                           Eigen::Vector2d(side * (t.half_width(yb) - gap), yb),
-                                           Eigen::Vector2d(side * (t.half_width(yt) - gap), yt),
-                                           Eigen::Vector2d(side * xi, yt)};
+    std::array<Eigen::Vector2d, 4> prof = {
+        Eigen::Vector2d(side * xi, yb), Eigen::Vector2d(side * (t.half_width(yb) - gap), yb),
+        Eigen::Vector2d(side * (t.half_width(yt) - gap), yt), Eigen::Vector2d(side * xi, yt)};
     if (side < 0) std::reverse(prof.begin(), prof.end());  // keep it counter-clockwise
     s.prism(world, prof, z0, z1, nz, 3, p.bin);
     // Strip 1 cm under the bin's inner edge, facing down (x x z = -y).
     const double x0 = side > 0 ? xi + 0.03 : -xi - 0.23;
-    s.grid(world, Vec3(x0, yb - 0.01, z0), Vec3(0.2, 0, 0), Vec3(0, 0, z1 - z0), 1, nz,
-           p.emitter);
+    s.grid(world, Vec3(x0, yb - 0.01, z0), Vec3(0.2, 0, 0), Vec3(0, 0, z1 - z0), 1, nz, p.emitter);
   }
   s.grid(world, Vec3(-0.25, t.yc + t.R - 0.12, z0), Vec3(0.5, 0, 0), Vec3(0, 0, z1 - z0), 2, nz,
          p.emitter);
@@ -115,10 +113,10 @@ void add_bins_and_strips(Shapes& s, const Tube& t, const Palette& p) {
 
 /// A seat centred on the frame's origin on the floor; the passenger faces -z.
 void add_seat(Shapes& s, const Frame& f, int cyl, const Palette& p) {
-  s.box(f, Vec3(-0.22, 0.40, -0.24), Vec3(0.22, 0.52, 0.22), p.fabric, kAllFaces,
-        Facing::Outward, Eigen::Vector3i(6, 2, 6));
-  s.box(f, Vec3(-0.22, 0.52, 0.22), Vec3(0.22, 1.15, 0.32), p.fabric, kAllFaces,
-        Facing::Outward, Eigen::Vector3i(6, 9, 2));
+  s.box(f, Vec3(-0.22, 0.40, -0.24), Vec3(0.22, 0.52, 0.22), p.fabric, kAllFaces, Facing::Outward,
+        Eigen::Vector3i(6, 2, 6));
+  s.box(f, Vec3(-0.22, 0.52, 0.22), Vec3(0.22, 1.15, 0.32), p.fabric, kAllFaces, Facing::Outward,
+        Eigen::Vector3i(6, 9, 2));
   s.box(f, Vec3(-0.2, 1.15, 0.23), Vec3(0.2, 1.3, 0.32), p.trim, kAllFaces & ~kYNeg,
         Facing::Outward, Eigen::Vector3i(4, 2, 1));
   for (const double x : {-0.17, 0.17})
@@ -130,8 +128,8 @@ void add_seat(Shapes& s, const Frame& f, int cyl, const Palette& p) {
 void add_armrest(Shapes& s, const Frame& f, int cyl, const Palette& p) {
   s.cylinder(f * Frame::along(Vec3(0, 0.65, -0.2), Vec3(0, 0.65, 0.2)), 0.035, 0.0, 0.4, cyl, 3,
              p.trim);
-  s.box(f, Vec3(-0.015, 0.40, -0.1), Vec3(0.015, 0.615, -0.07), p.metal, kAllFaces,
-        Facing::Outward, Eigen::Vector3i(1, 2, 1));
+  s.box(f, Vec3(-0.015, 0.40, -0.1), Vec3(0.015, 0.615, -0.07), p.metal, kAllFaces, Facing::Outward,
+        Eigen::Vector3i(1, 2, 1));
 }
 
 }  // namespace
@@ -158,8 +156,8 @@ Scene make_cabin(const Args& args) {
   p.fabric = s.material("fabric", Rgb(0.15, 0.18, 0.4));
   p.trim = s.material("trim", Rgb(0.3, 0.3, 0.32));
   p.metal = s.material("metal", Rgb(0.55, 0.55, 0.58));
-  p.emitter = s.material("emitter", Rgb::Constant(0.8),
-                         Rgb::Constant(kStripExitance * args.get("light")));
+  p.emitter =
+      s.material("emitter", Rgb::Constant(0.8), Rgb::Constant(kStripExitance * args.get("light")));
 
   const int rows = args.get_int("rows"), n = args.get_int("seats_per_row");
   const int block[2] = {(n + 1) / 2, n / 2};  // right (x > 0), left

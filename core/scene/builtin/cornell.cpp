@@ -67,8 +67,8 @@ Scene make_cornell(const Args& args) {
   const auto white = s.material("white", Rgb(0.73, 0.73, 0.73));
   const auto red = s.material("red", Rgb(0.63, 0.065, 0.05));
   const auto green = s.material("green", Rgb(0.14, 0.45, 0.091));
-  const auto light = s.material("light", Rgb::Constant(0.78),
-                                Rgb::Constant(kLightExitance * args.get("light")));
+  const auto light =
+      s.material("light", Rgb::Constant(0.78), Rgb::Constant(kLightExitance * args.get("light")));
 
   // The room: a box facing inward, front face (z = 0) left open.
   const BoxMaterials walls{green, red, white, white, white, white};

@@ -39,7 +39,8 @@ BuiltinInfo furnace_info() {
            {"emission", 1, 0, 1e6, "exitance of every face, W/m²", false},
            {"size", 1, 1e-3, 1e4, "room edge in metres", false},
            {"objects", 1, 0, 2,
-            "1 = a cube and an octahedron float inside, 0 = empty, 2 = 22 boxes and plates in contact and apart",
+            "1 = a cube and an octahedron float inside, 0 = empty, 2 = 22 boxes and plates in "
+            "contact and apart",
             true}}};
 }
 
@@ -47,8 +48,8 @@ Scene make_furnace(const Args& args) {
   SceneBuilder builder("furnace", args.spec());
   Shapes s(builder, args.spec());
   const double size = args.get("size");
-  const auto m = s.material("furnace", Rgb::Constant(args.get("rho")),
-                            Rgb::Constant(args.get("emission")));
+  const auto m =
+      s.material("furnace", Rgb::Constant(args.get("rho")), Rgb::Constant(args.get("emission")));
   const Frame world;
   s.box(world, Vec3::Zero(), Vec3::Constant(size), m, kAllFaces, Facing::Inward);
 
@@ -57,16 +58,16 @@ Scene make_furnace(const Args& args) {
     const auto b = [&](double x0, double y0, double z0, double x1, double y1, double z1) {
       s.box(world, Vec3(x0, y0, z0) * size, Vec3(x1, y1, z1) * size, m);
     };
-    b(0.10, 0.40, 0.10, 0.22, 0.52, 0.22);  // floating
-    b(0.70, 0.55, 0.15, 0.85, 0.62, 0.35);  // floating, flat
-    b(0.40, 0.70, 0.60, 0.48, 0.78, 0.68);  // floating, small
-    b(0.30, 0.00, 0.30, 0.50, 0.15, 0.50);  // stack on the floor ...
-    b(0.33, 0.15, 0.33, 0.47, 0.27, 0.47);  // ... standing on the first
-    b(0.36, 0.27, 0.36, 0.44, 0.33, 0.44);  // ... and on the second
-    b(0.80, 0.00, 0.80, 1.00, 0.25, 1.00);  // in the floor's corner
-    b(0.00, 0.60, 0.45, 0.08, 0.80, 0.60);  // against the x- wall
-    b(0.55, 0.85, 0.55, 0.70, 1.00, 0.70);  // hanging from the ceiling
-    b(0.60, 0.00, 0.05, 0.75, 0.10, 0.20);  // on the floor
+    b(0.10, 0.40, 0.10, 0.22, 0.52, 0.22);    // floating
+    b(0.70, 0.55, 0.15, 0.85, 0.62, 0.35);    // floating, flat
+    b(0.40, 0.70, 0.60, 0.48, 0.78, 0.68);    // floating, small
+    b(0.30, 0.00, 0.30, 0.50, 0.15, 0.50);    // stack on the floor ...
+    b(0.33, 0.15, 0.33, 0.47, 0.27, 0.47);    // ... standing on the first
+    b(0.36, 0.27, 0.36, 0.44, 0.33, 0.44);    // ... and on the second
+    b(0.80, 0.00, 0.80, 1.00, 0.25, 1.00);    // in the floor's corner
+    b(0.00, 0.60, 0.45, 0.08, 0.80, 0.60);    // against the x- wall
+    b(0.55, 0.85, 0.55, 0.70, 1.00, 0.70);    // hanging from the ceiling
+    b(0.60, 0.00, 0.05, 0.75, 0.10, 0.20);    // on the floor
     b(0.62, 0.10, 0.07, 0.73, 0.1050, 0.18);  // a 5 mm plate lying on it
     b(0.15, 0.75, 0.20, 0.35, 0.7550, 0.40);  // a floating 5 mm plate
     b(0.50, 0.30, 0.85, 0.70, 0.50, 0.8550);  // an upright floating 5 mm plate

@@ -34,14 +34,14 @@ namespace {
 
 constexpr double kGround = 3.2, kSlabTop = 3.5, kRoof = 6.5;  // heights
 constexpr double kPitchX = 2.2, kPitchZ = 2.6;                // workstation grid
-constexpr double kAreaX = 1.5, kAreaZ = 2.0;  // where the grid starts (x, z)
+constexpr double kAreaX = 1.5, kAreaZ = 2.0;                  // where the grid starts (x, z)
 constexpr double kVoidW = 1.6, kVoidZ0 = 2.0, kVoidZ1 = 8.0;
 constexpr double kLightExitance = 80.0;  // W/m²
 constexpr double kCell = 3.0;            // room subdivision
 
 struct Palette {
-  std::uint32_t wall, floor, ceiling, concrete, desk, metal, beige, dark, screen, key, fabric,
-      led, rack, housing, emitter, projection;
+  std::uint32_t wall, floor, ceiling, concrete, desk, metal, beige, dark, screen, key, fabric, led,
+      rack, housing, emitter, projection;
 };
 
 Palette make_palette(Shapes& s) {
@@ -76,11 +76,11 @@ void add_chair(Shapes& s, const Frame& f, const Palette& p) {
     s.sphere(arm, Vec3(0.3, 0.03, 0), 0.03, 8, 4, p.dark);
   }
   s.cylinder(f, 0.025, 0.12, 0.40, 8, 1, p.metal, 0);
-  s.box(f, Vec3(-0.24, 0.40, -0.23), Vec3(0.24, 0.48, 0.23), p.fabric, kAllFaces,
-        Facing::Outward, Eigen::Vector3i(3, 1, 3));
+  s.box(f, Vec3(-0.24, 0.40, -0.23), Vec3(0.24, 0.48, 0.23), p.fabric, kAllFaces, Facing::Outward,
+        Eigen::Vector3i(3, 1, 3));
   s.box(f, Vec3(-0.025, 0.44, 0.235), Vec3(0.025, 0.56, 0.265), p.metal, kAllFaces & ~kYPos);
-  s.box(f, Vec3(-0.23, 0.56, 0.23), Vec3(0.23, 1.0, 0.29), p.fabric, kAllFaces,
-        Facing::Outward, Eigen::Vector3i(3, 3, 1));
+  s.box(f, Vec3(-0.23, 0.56, 0.23), Vec3(0.23, 1.0, 0.29), p.fabric, kAllFaces, Facing::Outward,
+        Eigen::Vector3i(3, 3, 1));
   for (const double side : {-1.0, 1.0}) {
     const double x = side * 0.22;
     s.box(f, Vec3(x - 0.015, 0.48, -0.015), Vec3(x + 0.015, 0.68, 0.015), p.metal,
@@ -174,8 +174,7 @@ void add_slab(Shapes& s, double W, double D, double vx0, double vx1, const Palet
       const int nx = cells_for(dx, kCell), nz = cells_for(dz, kCell);
       // Top faces up (z x x = +y), bottom faces down (x x z = -y).
       s.grid(world, Vec3(xs[i], kSlabTop, zs[j]), Vec3(0, 0, dz), Vec3(dx, 0, 0), nz, nx, p.floor);
-      s.grid(world, Vec3(xs[i], kGround, zs[j]), Vec3(dx, 0, 0), Vec3(0, 0, dz), nx, nz,
-             p.ceiling);
+      s.grid(world, Vec3(xs[i], kGround, zs[j]), Vec3(dx, 0, 0), Vec3(0, 0, dz), nx, nz, p.ceiling);
     }
   // The void's four edges, facing into the void.
   const Vec3 up(0, kSlabTop - kGround, 0), along_z(0, 0, kVoidZ1 - kVoidZ0),
@@ -233,13 +232,13 @@ void add_lights(Shapes& s, int n, double x1, double D, double ceiling, const Pal
 }  // namespace
 
 BuiltinInfo lab_info() {
-  return {"lab",
-          "two-floor computer lab with a stair void, overhead lights, many tiny patches "
-          "(~30,000 polygons, like the paper's VRLAB)",
-          {{"workstations", 41, 1, 2000, "desks with computer and chair, split over 2 floors",
-            true},
-           {"lights", 24, 2, 800, "luminaires (exitance 80 W/m²), half per floor", true},
-           {"seed", 1, 0, 2147483647, "seed of the layout jitter", true}}};
+  return {
+      "lab",
+      "two-floor computer lab with a stair void, overhead lights, many tiny patches "
+      "(~30,000 polygons, like the paper's VRLAB)",
+      {{"workstations", 41, 1, 2000, "desks with computer and chair, split over 2 floors", true},
+       {"lights", 24, 2, 800, "luminaires (exitance 80 W/m²), half per floor", true},
+       {"seed", 1, 0, 2147483647, "seed of the layout jitter", true}}};
 }
 
 Scene make_lab(const Args& args) {
@@ -260,8 +259,8 @@ Scene make_lab(const Args& args) {
   const int nx = cells_for(W, kCell), nz = cells_for(D, kCell);
   s.box(Frame{}, Vec3::Zero(), Vec3(W, kGround, D), room, kAllFaces & ~kYPos, Facing::Inward,
         Eigen::Vector3i(nx, 1, nz));
-  s.box(Frame{}, Vec3(0, kSlabTop, 0), Vec3(W, kRoof, D), room, kAllFaces & ~kYNeg,
-        Facing::Inward, Eigen::Vector3i(nx, 1, nz));
+  s.box(Frame{}, Vec3(0, kSlabTop, 0), Vec3(W, kRoof, D), room, kAllFaces & ~kYNeg, Facing::Inward,
+        Eigen::Vector3i(nx, 1, nz));
   add_slab(s, W, D, vx0, vx1, p);
   add_stair(s, vx0, vx1, p);
   s.box(Frame{}, Vec3(1.5, 0.8, D - 0.05), Vec3(5.5, 3.0, D), p.projection, kAllFaces & ~kZPos);

@@ -36,8 +36,8 @@ constexpr double kFirstRowZ = 1.95;             // back wall to the first desk's
 constexpr double kLightExitance = 60.0;         // W/m²
 
 struct Palette {
-  std::uint32_t wall, floor, ceiling, wood, metal, fabric, plastic, screen, paper, ceramic,
-      housing, emitter, door, board;
+  std::uint32_t wall, floor, ceiling, wood, metal, fabric, plastic, screen, paper, ceramic, housing,
+      emitter, door, board;
   std::uint32_t books[6];
 };
 
@@ -73,7 +73,7 @@ void add_chair(Shapes& s, const Frame& f, const Palette& p) {
     s.box(arm, Vec3(0.285, 0.0, -0.018), Vec3(0.325, 0.07, 0.018), p.plastic,
           kAllFaces & ~kYNeg & ~kYPos);
   }
-  s.cylinder(f, 0.025, 0.12, 0.40, 8, 1, p.metal, 0);  // gas column
+  s.cylinder(f, 0.025, 0.12, 0.40, 8, 1, p.metal, 0);                    // gas column
   s.box(f, Vec3(-0.24, 0.40, -0.23), Vec3(0.24, 0.48, 0.23), p.fabric);  // seat
   s.box(f, Vec3(-0.025, 0.44, 0.235), Vec3(0.025, 0.56, 0.265), p.metal, kAllFaces & ~kYPos);
   s.box(f, Vec3(-0.23, 0.56, 0.23), Vec3(0.23, 1.02, 0.29), p.fabric);  // backrest
@@ -95,8 +95,7 @@ void add_desk(Shapes& s, const Frame& f, const Palette& p, Rng& rng) {
   for (int d = 0; d < 3; ++d) {
     const double y0 = 0.03 + 0.19 * d, y1 = y0 + 0.17, ym = 0.5 * (y0 + y1);
     s.box(f, Vec3(0.27, y0, 0.33), Vec3(0.63, y1, 0.35), p.wood, kAllFaces & ~kZNeg);
-    s.box(f, Vec3(0.39, ym - 0.01, 0.35), Vec3(0.51, ym + 0.01, 0.37), p.metal,
-          kAllFaces & ~kZNeg);
+    s.box(f, Vec3(0.39, ym - 0.01, 0.35), Vec3(0.51, ym + 0.01, 0.37), p.metal, kAllFaces & ~kZNeg);
   }
   s.box(f, Vec3(-0.6, 0, -0.30), Vec3(-0.4, 0.45, 0.15), p.plastic, kNoBottom);  // tower PC
   // Monitor: base, neck (5 mm behind the panel), panel with the screen toward +z.

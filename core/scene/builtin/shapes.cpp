@@ -80,13 +80,14 @@ void Shapes::quad(const Frame& f, const Vec3& a, const Vec3& b, const Vec3& c, c
   emit(p, m);
 }
 
-void Shapes::grid(const Frame& f, const Vec3& corner, const Vec3& u, const Vec3& v, int nu,
-                  int nv, std::uint32_t m) {
-  surface(f, nu, nv,
-          [&](int i, int j) -> Vec3 {
-            return corner + (static_cast<double>(i) / nu) * u + (static_cast<double>(j) / nv) * v;
-          },
-          m);
+void Shapes::grid(const Frame& f, const Vec3& corner, const Vec3& u, const Vec3& v, int nu, int nv,
+                  std::uint32_t m) {
+  surface(
+      f, nu, nv,
+      [&](int i, int j) -> Vec3 {
+        return corner + (static_cast<double>(i) / nu) * u + (static_cast<double>(j) / nv) * v;
+      },
+      m);
 }
 
 void Shapes::box(const Frame& f, const Vec3& lo, const Vec3& hi, const BoxMaterials& m,
@@ -128,19 +129,19 @@ void Shapes::hexahedron(const Frame& f, const std::array<Vec3, 8>& c, std::uint3
   }
 }
 
-void Shapes::box_cells(const Frame& f, const Vec3& lo, const Vec3& hi, std::uint32_t m,
-                       double cell, unsigned faces, Facing facing) {
+void Shapes::box_cells(const Frame& f, const Vec3& lo, const Vec3& hi, std::uint32_t m, double cell,
+                       unsigned faces, Facing facing) {
   const Vec3 e = hi - lo;
   box(f, lo, hi, m, faces, facing,
       Eigen::Vector3i(cells_for(e.x(), cell), cells_for(e.y(), cell), cells_for(e.z(), cell)));
 }
 
-void Shapes::cylinder(const Frame& f, double radius, double y0, double y1, int segments,
-                      int rings, std::uint32_t m, unsigned caps) {
+void Shapes::cylinder(const Frame& f, double radius, double y0, double y1, int segments, int rings,
+                      std::uint32_t m, unsigned caps) {
   const std::vector<double> ys = ticks(y0, y1, rings);
   // Band cells (i along the circle, j along y): d/di x d/dj points away from the axis.
-  surface(f, segments, rings,
-          [&](int i, int j) { return ring_point(radius, ys[j], i, segments); }, m);
+  surface(
+      f, segments, rings, [&](int i, int j) { return ring_point(radius, ys[j], i, segments); }, m);
   const Vec3 c0(0, y0, 0), c1(0, y1, 0);
   for (int i = 0; i < segments; ++i) {
     if (caps & kYNeg)
@@ -173,8 +174,8 @@ void Shapes::sphere(const Frame& f, const Vec3& center, double radius, int slice
   }
 }
 
-void Shapes::prism(const Frame& f, std::span<const Eigen::Vector2d> profile, double z0,
-                   double z1, int nz, int per_edge, std::uint32_t m, unsigned caps) {
+void Shapes::prism(const Frame& f, std::span<const Eigen::Vector2d> profile, double z0, double z1,
+                   int nz, int per_edge, std::uint32_t m, unsigned caps) {
   // The perimeter with every edge cut into per_edge pieces (exact at the corners).
   std::vector<Eigen::Vector2d> ring;
   const std::size_t k = profile.size();
@@ -188,12 +189,13 @@ void Shapes::prism(const Frame& f, std::span<const Eigen::Vector2d> profile, dou
   const int n = static_cast<int>(ring.size());
   const std::vector<double> zs = ticks(z0, z1, nz);
   // For a counter-clockwise profile, edge x z is the outward normal of each band.
-  surface(f, n, nz,
-          [&](int i, int j) {
-            const Eigen::Vector2d& q = ring[i % n];
-            return Vec3(q.x(), q.y(), zs[j]);
-          },
-          m);
+  surface(
+      f, n, nz,
+      [&](int i, int j) {
+        const Eigen::Vector2d& q = ring[i % n];
+        return Vec3(q.x(), q.y(), zs[j]);
+      },
+      m);
   Eigen::Vector2d c = Eigen::Vector2d::Zero();
   for (const auto& q : profile) c += q;
   c /= static_cast<double>(k);
@@ -218,8 +220,8 @@ void Shapes::prism(const Frame& f, std::span<const Eigen::Vector2d> profile, dou
   }
 }
 
-void Shapes::table(const Frame& f, double w, double d, double h, double t, double leg,
-                   double inset, std::uint32_t top, std::uint32_t legs) {
+void Shapes::table(const Frame& f, double w, double d, double h, double t, double leg, double inset,
+                   std::uint32_t top, std::uint32_t legs) {
   box(f, Vec3(-w / 2, h - t, -d / 2), Vec3(w / 2, h, d / 2), top);
   const double lx = w / 2 - inset - leg / 2, lz = d / 2 - inset - leg / 2;
   for (const double sx : {-1.0, 1.0})

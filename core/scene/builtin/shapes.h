@@ -136,8 +136,8 @@ class Shapes {
   /// A closed convex profile (x, y) given counter-clockwise, extruded along local z
   /// from z0 to z1 in `nz` bands; each profile edge is cut into `per_edge` pieces.
   /// Caps (kZNeg / kZPos bits) are fans around the profile's centroid.
-  void prism(const Frame& f, std::span<const Eigen::Vector2d> profile, double z0, double z1,
-             int nz, int per_edge, std::uint32_t m, unsigned caps = kZNeg | kZPos);
+  void prism(const Frame& f, std::span<const Eigen::Vector2d> profile, double z0, double z1, int nz,
+             int per_edge, std::uint32_t m, unsigned caps = kZNeg | kZPos);
   /// A table: top [-w/2, w/2] x [h - t, h] x [-d/2, d/2] (all faces), four square legs
   /// of side `leg` inset by `inset`, touching the floor and the top (those faces omitted).
   void table(const Frame& f, double w, double d, double h, double t, double leg, double inset,
@@ -145,8 +145,8 @@ class Shapes {
   /// A luminaire: a housing of size (w, h, d) hanging centred below the ceiling
   /// point `center_at_ceiling`; its top touches the ceiling (omitted) and its bottom
   /// face is the emitter, facing down (world axes, y up).
-  void luminaire(const Vec3& center_at_ceiling, double w, double h, double d,
-                 std::uint32_t housing, std::uint32_t emitter);
+  void luminaire(const Vec3& center_at_ceiling, double w, double h, double d, std::uint32_t housing,
+                 std::uint32_t emitter);
 
  private:
   void emit(std::span<const Vec3> world, std::uint32_t m);

@@ -64,8 +64,10 @@ GamutRgb xyY_to_gamut_rgb(double x, double y, double Y, double upper) {
   const Eigen::Vector3d u = xyz_to_linear_rgb_matrix() * Eigen::Vector3d(x - y, 0.0, z - y);
   double s = y > 0 ? Y / y : std::numeric_limits<double>::infinity();
   for (int i = 0; i < 3; ++i) {
-    if (u[i] < 0) s = std::min(s, Y / -u[i]);
-    else if (u[i] > 0) s = std::min(s, (upper - Y) / u[i]);  // +inf for emission
+    if (u[i] < 0)
+      s = std::min(s, Y / -u[i]);
+    else if (u[i] > 0)
+      s = std::min(s, (upper - Y) / u[i]);  // +inf for emission
   }
   const Rgb out = (Rgb::Constant(Y) + s * u.array()).max(0.0).min(upper);
   return {out, true};

@@ -33,9 +33,9 @@ struct MgfColour {
 };
 
 struct MgfMaterial {
-  double rd = 0;     ///< diffuse reflectance (luminous factor, 0..1)
+  double rd = 0;  ///< diffuse reflectance (luminous factor, 0..1)
   MgfColour rd_colour;
-  double ed = 0;     ///< diffuse emittance, lm/m^2
+  double ed = 0;  ///< diffuse emittance, lm/m^2
   MgfColour ed_colour;
   int sides = 2;
 };

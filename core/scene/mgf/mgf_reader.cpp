@@ -107,10 +107,10 @@ struct XfFrame {
   std::vector<long> index;  ///< current array instance, one entry per -a group
   Affine world = Affine::Identity();
   bool mirrored = false;
-  std::uint64_t id = 0;       ///< identifies `world` for the vertex cache
-  std::size_t begin = 0;      ///< entity index of the xf begin (arrays rewind here)
+  std::uint64_t id = 0;   ///< identifies `world` for the vertex cache
+  std::size_t begin = 0;  ///< entity index of the xf begin (arrays rewind here)
   int line = 0;
-  long instances = 1;         ///< array instances of this frame times its enclosing frames'
+  long instances = 1;  ///< array instances of this frame times its enclosing frames'
 };
 
 struct VertexKey {
@@ -171,8 +171,8 @@ class MgfParser {
   MgfColour spectrum_colour(Args t, const SourceLoc& at);
   MgfColour mixed_colour(Args t, const SourceLoc& at);
   // The colour of a spectrum's XYZ; InputError "kw: empty" when it has no light.
-  static MgfColour xyz_colour(const Eigen::Vector3d& xyz, const SourceLoc& at,
-                              std::string_view kw, std::string_view empty);
+  static MgfColour xyz_colour(const Eigen::Vector3d& xyz, const SourceLoc& at, std::string_view kw,
+                              std::string_view empty);
   void material_entity(Args t, const SourceLoc& at);
   void face(Args names, const SourceLoc& at);
   void primitive(Args t, const SourceLoc& at);
@@ -206,7 +206,7 @@ class MgfParser {
   std::int64_t work_ = 0;
   std::vector<PendingPolygon> pending_;
   std::vector<PendingShape> shapes_;
-  Aabb bounds_;  ///< of the faces' vertices and every shape's extent (world)
+  Aabb bounds_;                        ///< of the faces' vertices and every shape's extent (world)
   const std::string* file_ = nullptr;  ///< the file being read (stable: sources_ owns it)
   int object_depth_ = 0;
   // Counted warnings.
@@ -218,9 +218,9 @@ class MgfParser {
 
 void need(Args t, std::size_t n, const SourceLoc& at, std::string_view usage) {
   if (t.size() != n + 1)
-    throw InputError(at.file, at.line,
-                     fmt::format("{}: expected {} argument(s) ({}), got {}", t[0], n, usage,
-                                 t.size() - 1));
+    throw InputError(
+        at.file, at.line,
+        fmt::format("{}: expected {} argument(s) ({}), got {}", t[0], n, usage, t.size() - 1));
 }
 
 double number(std::string_view tok, const SourceLoc& at, std::string_view entity) {
@@ -332,8 +332,8 @@ void MgfParser::entity(Args t, const SourceLoc& at, const Source& src, int depth
     primitive(t, at);
   } else if (kw == "c" || kw == "cxy" || kw == "cspec" || kw == "cct" || kw == "cmix") {
     colour_entity(t, at);
-  } else if (kw == "m" || kw == "sides" || kw == "rd" || kw == "ed" || kw == "td" ||
-             kw == "rs" || kw == "ts" || kw == "ir") {
+  } else if (kw == "m" || kw == "sides" || kw == "rd" || kw == "ed" || kw == "td" || kw == "rs" ||
+             kw == "ts" || kw == "ir") {
     material_entity(t, at);
   } else if (kw == "o") {
     if (t.size() > 2) throw InputError(at.file, at.line, "o: expected 'o [name]'");
@@ -616,9 +616,9 @@ void MgfParser::defer_shape(PendingShape shape, const Aabb& world_bounds, const 
   for (const Vec3& corner : {world_bounds.lo, world_bounds.hi})
     for (int i = 0; i < 3; ++i)
       if (!std::isfinite(corner[i]) || std::abs(corner[i]) > 1e30)
-        throw InputError(at.file, at.line,
-                         fmt::format("{}: the shape reaches a coordinate beyond +-1e30",
-                                     shape.kind));
+        throw InputError(
+            at.file, at.line,
+            fmt::format("{}: the shape reaches a coordinate beyond +-1e30", shape.kind));
   bounds_.extend(world_bounds);
   shape.world = world();
   shape.mirrored = mirrored();
@@ -761,24 +761,24 @@ Scene MgfParser::finish(const std::string& file) {
       total += count;
       if (list.size() < 80) list += fmt::format("{}{} ({})", list.empty() ? "" : ", ", kw, count);
     }
-    builder_.warn(fmt::format("{} unknown MGF entit{} ignored: {}", total,
-                              total == 1 ? "y" : "ies", list));
+    builder_.warn(
+        fmt::format("{} unknown MGF entit{} ignored: {}", total, total == 1 ? "y" : "ies", list));
   }
   if (specular_ignored_ > 0)
     builder_.warn(fmt::format("{} td/rs/ts value(s) ignored: hrad surfaces are ideal diffuse",
                               specular_ignored_));
   if (mapped_reflectance_ + mapped_emission_ > 0)
-    builder_.warn(fmt::format("{} colour(s) outside the RGB gamut ({} reflectance, {} emission) "
-                              "desaturated towards the grey of equal luminance (hue and "
-                              "luminance kept)",
-                              mapped_reflectance_ + mapped_emission_, mapped_reflectance_,
-                              mapped_emission_));
+    builder_.warn(
+        fmt::format("{} colour(s) outside the RGB gamut ({} reflectance, {} emission) "
+                    "desaturated towards the grey of equal luminance (hue and "
+                    "luminance kept)",
+                    mapped_reflectance_ + mapped_emission_, mapped_reflectance_, mapped_emission_));
   if (unmatched_o_ > 0 || object_depth_ > 0)
     builder_.warn(fmt::format("unbalanced objects: {} 'o' end(s) without a begin, {} never ended",
                               unmatched_o_, object_depth_));
   if (unclosed_xf_ > 0)
-    builder_.warn(fmt::format("{} xf context(s) not ended in their file (closed there)",
-                              unclosed_xf_));
+    builder_.warn(
+        fmt::format("{} xf context(s) not ended in their file (closed there)", unclosed_xf_));
   return builder_.finish(file);
 }
 

@@ -114,8 +114,7 @@ ShapeMesh tessellate_ring(const Vec3& c, const Vec3& normal, double rmin, double
   const auto in = ring_points(m, c, rmin, dirs);
   const auto out = ring_points(m, c, rmax, dirs);
   const std::size_t n = dirs.size();
-  for (std::size_t j = 0; j < n; ++j)
-    m.polygon({in[j], out[j], out[(j + 1) % n], in[(j + 1) % n]});
+  for (std::size_t j = 0; j < n; ++j) m.polygon({in[j], out[j], out[(j + 1) % n], in[(j + 1) % n]});
   return m.finish(false);
 }
 
@@ -134,8 +133,8 @@ ShapeMesh tessellate_torus(const Vec3& c, const Vec3& normal, double rmin, doubl
   std::vector<std::uint32_t> grid(n * n);
   for (std::size_t j = 0; j < n; ++j)
     for (std::size_t k = 0; k < n; ++k)
-      grid[j * n + k] = m.point(c + (big + tube * section[k].x()) * around[j] +
-                                tube * section[k].y() * a);
+      grid[j * n + k] =
+          m.point(c + (big + tube * section[k].x()) * around[j] + tube * section[k].y() * a);
   auto at = [&](std::size_t j, std::size_t k) { return grid[(j % n) * n + k % n]; };
   for (std::size_t j = 0; j < n; ++j)
     for (std::size_t k = 0; k < n; ++k)

@@ -58,8 +58,7 @@ long parse_mgf_integer(std::string_view tok, long lo, long hi, const SourceLoc& 
   if (ec != std::errc() || ptr != t.data() + t.size())
     throw InputError(at.file, at.line, fmt::format("{}: '{}' is not an integer", what, tok));
   if (v < lo || v > hi)
-    throw InputError(at.file, at.line,
-                     fmt::format("{}: {} is outside [{}, {}]", what, v, lo, hi));
+    throw InputError(at.file, at.line, fmt::format("{}: {} is outside [{}, {}]", what, v, lo, hi));
   return v;
 }
 
@@ -78,8 +77,7 @@ Affine XfSpec::instance(std::span<const long> index) const {
   return t;
 }
 
-XfSpec parse_xf(std::span<const std::string_view> args, const SourceLoc& at,
-                const XfLimits& lim) {
+XfSpec parse_xf(std::span<const std::string_view> args, const SourceLoc& at, const XfLimits& lim) {
   XfSpec spec;
   spec.groups.emplace_back();
   std::size_t i = 0;

@@ -41,8 +41,8 @@ struct XfSpec {
 
 /// Limits on counts a file may ask for; exceeding one is an InputError.
 struct XfLimits {
-  long max_array = 100000;   ///< largest -a N
-  long max_repeat = 1000000; ///< largest -i N
+  long max_array = 100000;    ///< largest -a N
+  long max_repeat = 1000000;  ///< largest -i N
 };
 
 /// Parses transform arguments. Throws InputError at `at` for an unknown option, a
