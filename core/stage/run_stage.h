@@ -203,104 +203,141 @@ class Shared {
   bool stage_over_ = false;
 };
 
-/// One worker's loop: take, process, submit, until the stage is done.
+/// One worker of a stage: its loop (take, process, submit, until the stage is done) and
+/// the state the loop keeps between blocks.
 template <StageBody Body>
-void work(Shared& sh, Body& body, int id, StageWorkerCounters& c, std::vector<TraceRecord>& trace) {
-  const StageConfig& cfg = sh.config;
-  IScheduler& scheduler = sh.scheduler;
-  const bool tracing = cfg.trace_iteration > 0;
-  const bool report = static_cast<bool>(cfg.progress);
-  const double cpu_start = thread_cpu_seconds();
-  // OpenMP keeps its threads (this one may be the caller's) for later stages and later
-  // runs: a bound worker gives the thread its CPU set back when the stage ends, so a
-  // run without pinning never inherits another's binding.
-  const ThreadBinding unbound;
-  const bool planned = cfg.plan && static_cast<std::size_t>(id) < cfg.plan->refiners.size();
-  const ThreadBinding& b = planned ? cfg.plan->refiners[static_cast<std::size_t>(id)] : unbound;
-  const ScopedThreadBinding binding(cfg.topology, b, &c.bind_warning);
-  c.bound = binding.outcome();
-  body.begin(id, b.node);
-  std::uint64_t next_id = (static_cast<std::uint64_t>(id + 1) << 48) |
-                          (static_cast<std::uint64_t>(cfg.trace_iteration) << 40);
-  std::vector<Task> block(static_cast<std::size_t>(cfg.block_size));
-  std::vector<Task> out;
-  out.reserve(static_cast<std::size_t>(cfg.block_size) * 8);
-  const auto loop_start = Clock::now();
-  Clock::time_point idle_since = loop_start;
-  bool idle = true;  // not yet counted as busy
-  int idle_round = 0;
-  std::int64_t owed = 0;        // retired tasks not yet taken off `pending` (<= 0)
-  std::size_t ready = 0;        // tasks already in `block` (taken with the last submit)
-  std::uint64_t published = 0;  // this worker's bytes already reported
-  int blocks_since_check = kMemoryCheckBlocks;
-  for (;;) {
-    if (cfg.max_bytes > 0 && ++blocks_since_check >= kMemoryCheckBlocks) {
-      blocks_since_check = 0;
-      sh.report_bytes(body.bytes_held(id), published);
-    }
-    if (sh.stopping()) {
-      sh.abandon();
-      break;
-    }
-    // While chunks are left to load, a worker with nothing of its own loads one rather
-    // than take what another has just loaded.
-    const std::size_t n = ready > 0      ? ready
-                          : sh.loading() ? scheduler.take_own(id, block)
-                                         : scheduler.take(id, block);
-    ready = 0;
-    if (n == 0) {
-      if (sh.load_more(id, c)) continue;
-      if (owed != 0) {  // before going idle, publish what this worker retired
-        const bool last = sh.add_pending(owed);
-        owed = 0;
-        if (last) sh.wake_solver();
+class Worker {
+ public:
+  Worker(Shared& sh, Body& body, int id, StageWorkerCounters& c, std::vector<TraceRecord>& trace)
+      : sh_(sh),
+        cfg_(sh.config),
+        body_(body),
+        id_(id),
+        c_(c),
+        trace_(trace),
+        next_id_((static_cast<std::uint64_t>(id + 1) << 48) |
+                 (static_cast<std::uint64_t>(sh.config.trace_iteration) << 40)),
+        block_(static_cast<std::size_t>(sh.config.block_size)) {
+    out_.reserve(static_cast<std::size_t>(cfg_.block_size) * 8);
+  }
+
+  void run() {
+    const double cpu_start = thread_cpu_seconds();
+    // OpenMP keeps its threads (this one may be the caller's) for later stages and
+    // later runs: a bound worker gives the thread its CPU set back when the stage ends,
+    // so a run without pinning never inherits another's binding.
+    const ThreadBinding unbound;
+    const bool planned = cfg_.plan && static_cast<std::size_t>(id_) < cfg_.plan->refiners.size();
+    const ThreadBinding& b = planned ? cfg_.plan->refiners[static_cast<std::size_t>(id_)] : unbound;
+    const ScopedThreadBinding binding(cfg_.topology, b, &c_.bind_warning);
+    c_.bound = binding.outcome();
+    body_.begin(id_, b.node);
+    const auto loop_start = Clock::now();
+    idle_since_ = loop_start;
+    loop();
+    const auto loop_end = Clock::now();
+    body_.end_loop(id_);
+    if (idle_) c_.idle_s += seconds_between(idle_since_, loop_end);
+    // Busy: the loop less its idle and loading time (two clock reads per stage; a pair
+    // per block cost 5 % of the refinement at block size 1).
+    c_.busy_s = std::max(0.0, seconds_between(loop_start, loop_end) - c_.idle_s - c_.load_s);
+#pragma omp barrier
+    const auto finish_start = Clock::now();
+    body_.finish(id_);
+    c_.finish_s = seconds_since(finish_start);
+    c_.cpu_s = thread_cpu_seconds() - cpu_start;
+  }
+
+ private:
+  void loop() {
+    IScheduler& scheduler = sh_.scheduler;
+    for (;;) {
+      if (cfg_.max_bytes > 0 && ++blocks_since_check_ >= kMemoryCheckBlocks) {
+        blocks_since_check_ = 0;
+        sh_.report_bytes(body_.bytes_held(id_), published_);
       }
-      if (sh.done()) break;
-      if (!idle) {
-        idle = true;
-        idle_since = Clock::now();
-        sh.went_idle();
+      if (sh_.stopping()) {
+        sh_.abandon();
+        return;
       }
-      if (cfg.time_limit_s > 0 && idle_round >= 40) sh.check_time();
-      idle_backoff(idle_round++);
-      continue;
-    }
-    if (idle) {  // only the idle -> busy transitions touch the shared counters
-      c.idle_s += seconds_since(idle_since);
-      idle = false;
-      idle_round = 0;
-      sh.went_busy();
-    }
-    if (tracing) {
-      for (std::size_t i = 0; i < n; ++i) {
-        const auto t_start = Clock::now();
-        const std::size_t before = out.size();
-        TraceRecord rec;
-        rec.id = block[i].id;
-        rec.first_child = next_id;
-        body.process(id, block[i], out);
-        for (std::size_t k = before; k < out.size(); ++k) out[k].id = next_id++;
-        rec.start_ns = static_cast<std::uint64_t>(
-            std::chrono::duration_cast<std::chrono::nanoseconds>(t_start - sh.start()).count());
-        const auto d = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_start);
-        rec.duration_ns = static_cast<std::uint32_t>(
-            std::min<std::int64_t>(d.count(), TraceRecord::kBlockStart - 1));
-        if (i == 0) rec.duration_ns |= TraceRecord::kBlockStart;
-        rec.children = static_cast<std::uint16_t>(out.size() - before);
-        rec.worker = static_cast<std::uint8_t>(id);
-        rec.iteration = static_cast<std::uint8_t>(cfg.trace_iteration);
-        trace.push_back(rec);
+      // While chunks are left to load, a worker with nothing of its own loads one rather
+      // than take what another has just loaded.
+      const std::size_t n = ready_ > 0      ? ready_
+                            : sh_.loading() ? scheduler.take_own(id_, block_)
+                                            : scheduler.take(id_, block_);
+      ready_ = 0;
+      if (n == 0) {
+        if (!wait_for_work()) return;
+        continue;
       }
-    } else {
-      for (std::size_t i = 0; i < n; ++i) body.process(id, block[i], out);
-      for (Task& t : out) t.id = next_id++;
+      if (idle_) {  // only the idle -> busy transitions touch the shared counters
+        c_.idle_s += seconds_since(idle_since_);
+        idle_ = false;
+        idle_round_ = 0;
+        sh_.went_busy();
+      }
+      if (cfg_.trace_iteration > 0) {
+        process_traced(n);
+      } else {
+        for (std::size_t i = 0; i < n; ++i) body_.process(id_, block_[i], out_);
+        for (Task& t : out_) t.id = next_id_++;
+      }
+      end_block(n);
     }
-    c.tasks += n;
-    const std::uint64_t results = body.end_block(id, n);
-    ++c.takes;
-    if (report) {
-      sh.shown(id).tasks.store(c.tasks, std::memory_order_relaxed);
-      sh.shown(id).results.store(results, std::memory_order_relaxed);
+  }
+
+  // Nothing was taken: load a chunk of initial tasks if any is left, else publish what
+  // this worker owes the count, go idle and back off. False when the stage is done.
+  bool wait_for_work() {
+    if (sh_.load_more(id_, c_)) return true;
+    if (owed_ != 0) {  // before going idle, publish what this worker retired
+      const bool last = sh_.add_pending(owed_);
+      owed_ = 0;
+      if (last) sh_.wake_solver();
+    }
+    if (sh_.done()) return false;
+    if (!idle_) {
+      idle_ = true;
+      idle_since_ = Clock::now();
+      sh_.went_idle();
+    }
+    if (cfg_.time_limit_s > 0 && idle_round_ >= 40) sh_.check_time();
+    idle_backoff(idle_round_++);
+    return true;
+  }
+
+  // The block's tasks one by one, each timed and recorded (core/parallel/trace.h).
+  void process_traced(std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto t_start = Clock::now();
+      const std::size_t before = out_.size();
+      TraceRecord rec;
+      rec.id = block_[i].id;
+      rec.first_child = next_id_;
+      body_.process(id_, block_[i], out_);
+      for (std::size_t k = before; k < out_.size(); ++k) out_[k].id = next_id_++;
+      rec.start_ns = static_cast<std::uint64_t>(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(t_start - sh_.start()).count());
+      const auto d = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t_start);
+      rec.duration_ns = static_cast<std::uint32_t>(
+          std::min<std::int64_t>(d.count(), TraceRecord::kBlockStart - 1));
+      if (i == 0) rec.duration_ns |= TraceRecord::kBlockStart;
+      rec.children = static_cast<std::uint16_t>(out_.size() - before);
+      rec.worker = static_cast<std::uint8_t>(id_);
+      rec.iteration = static_cast<std::uint8_t>(cfg_.trace_iteration);
+      trace_.push_back(rec);
+    }
+  }
+
+  // After a block of n tasks: the body's end of block, the progress figures, the
+  // termination count, and the children submitted with the next take.
+  void end_block(std::size_t n) {
+    c_.tasks += n;
+    const std::uint64_t results = body_.end_block(id_, n);
+    ++c_.takes;
+    if (cfg_.progress) {
+      sh_.shown(id_).tasks.store(c_.tasks, std::memory_order_relaxed);
+      sh_.shown(id_).results.store(results, std::memory_order_relaxed);
     }
     // The shared count changes by (children - block) per block. Children are counted
     // before anyone can see them; retirements may be published late (the count then
@@ -309,30 +346,35 @@ void work(Shared& sh, Body& body, int id, StageWorkerCounters& c, std::vector<Tr
     // retirements are owed until kOwedLimit or until the worker goes idle. Blocks of
     // tasks that end without children then cost no shared write.
     bool last = false;
-    owed -= static_cast<std::int64_t>(n);
-    if (!out.empty() || owed <= -kOwedLimit) {
-      last = sh.add_pending(static_cast<std::int64_t>(out.size()) + owed);
-      owed = 0;
+    owed_ -= static_cast<std::int64_t>(n);
+    if (!out_.empty() || owed_ <= -kOwedLimit) {
+      last = sh_.add_pending(static_cast<std::int64_t>(out_.size()) + owed_);
+      owed_ = 0;
     }
-    if (!out.empty()) {
-      ++c.submits;
-      ready = scheduler.submit_and_take(id, out, block, sh.loading());
-      out.clear();
+    if (!out_.empty()) {
+      ++c_.submits;
+      ready_ = sh_.scheduler.submit_and_take(id_, out_, block_, sh_.loading());
+      out_.clear();
     }
-    if (last) sh.wake_solver();  // the last task retired: wake the solver thread
+    if (last) sh_.wake_solver();  // the last task retired: wake the solver thread
   }
-  const auto loop_end = Clock::now();
-  body.end_loop(id);
-  if (idle) c.idle_s += seconds_between(idle_since, loop_end);
-  // Busy: the loop less its idle and loading time (two clock reads per stage; a pair
-  // per block cost 5 % of the refinement at block size 1).
-  c.busy_s = std::max(0.0, seconds_between(loop_start, loop_end) - c.idle_s - c.load_s);
-#pragma omp barrier
-  const auto finish_start = Clock::now();
-  body.finish(id);
-  c.finish_s = seconds_since(finish_start);
-  c.cpu_s = thread_cpu_seconds() - cpu_start;
-}
+
+  Shared& sh_;
+  const StageConfig& cfg_;
+  Body& body_;
+  const int id_;
+  StageWorkerCounters& c_;
+  std::vector<TraceRecord>& trace_;
+  std::uint64_t next_id_;  // the id of the next task this worker creates
+  std::vector<Task> block_, out_;
+  Clock::time_point idle_since_;
+  bool idle_ = true;  // not yet counted as busy
+  int idle_round_ = 0;
+  std::int64_t owed_ = 0;        // retired tasks not yet taken off `pending` (<= 0)
+  std::size_t ready_ = 0;        // tasks already in `block_` (taken with the last submit)
+  std::uint64_t published_ = 0;  // this worker's bytes already reported
+  int blocks_since_check_ = kMemoryCheckBlocks;
+};
 
 }  // namespace stage_detail
 
@@ -352,8 +394,9 @@ StageCounters run_stage(IScheduler& scheduler, std::span<Task> initial, const St
 #pragma omp parallel num_threads(config.threads)
     {
       const int id = omp_get_thread_num();
-      stage_detail::work(shared, body, id, total.per_worker[static_cast<std::size_t>(id)],
-                         traces[static_cast<std::size_t>(id)]);
+      stage_detail::Worker<Body>(shared, body, id, total.per_worker[static_cast<std::size_t>(id)],
+                                 traces[static_cast<std::size_t>(id)])
+          .run();
     }
     shared.join(total);
   }
