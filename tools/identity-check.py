@@ -16,7 +16,8 @@ the other) and compares:
     did what (per-refiner counters, local/remote task counts), exactly; at more than
     one thread float figures within 1e-9 relative (sums over links, whose order
     follows the refiners: they differ between two runs of one binary too).
-It prints one line per case and exits 1 when any case differs. Defaults: scenes
+Figures only NEW has (a key added to stats.json) are listed apart ("added in NEW") and
+are no difference. It prints one line per case and exits 1 when any case differs. Defaults: scenes
 builtin:cornell and builtin:office, every registered scheduler (from `hrad solve
 --help`), 1 and 2 threads.
 """
@@ -112,16 +113,20 @@ def main():
                     runs.append(folder)
                 old = figures(json.load(open(os.path.join(runs[0], 'stats.json'))))
                 new = figures(json.load(open(os.path.join(runs[1], 'stats.json'))))
+                # Keys only NEW has (a configuration key or statistic added) are listed
+                # apart: they are new records, not changed ones.
+                added = sorted(set(new) - set(old))
                 diff = sorted(k for k in set(old) | set(new)
-                              if not same(old.get(k), new.get(k), int(threads)))
+                              if k not in added and not same(old.get(k), new.get(k), int(threads)))
                 same_mesh = filecmp.cmp(os.path.join(runs[0], 'solution.ply'),
                                         os.path.join(runs[1], 'solution.ply'), shallow=False)
                 cases += 1
                 bad = bool(diff) or not same_mesh
                 differing += bad
                 print(f'{scene} {sched} {threads} thread(s): links {new.get("totals.links")}, '
-                      f'elements {new.get("totals.elements")}, {len(new)} figures '
-                      f'{"same" if not diff else "differ: " + ", ".join(diff[:8])}; solution.ply '
+                      f'elements {new.get("totals.elements")}, {len(old)} figures '
+                      f'{"same" if not diff else "differ: " + ", ".join(diff[:8])}'
+                      f'{"; added in NEW: " + ", ".join(added) if added else ""}; solution.ply '
                       f'{"identical" if same_mesh else "DIFFERS"}', flush=True)
     print(f'identity-check: {cases} cases, {differing} with differences (runs in {out})')
     return 1 if differing else 0
