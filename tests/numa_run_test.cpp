@@ -186,6 +186,7 @@ void expect_consistent_numa_stats(const RunStats& stats, const std::string& what
       EXPECT_EQ(r.tasks_local + r.tasks_remote, r.tasks) << what;
     }
     EXPECT_EQ(tasks, it.tasks) << what;
+    EXPECT_EQ(local + remote, tasks) << what;
     ASSERT_GT(tasks, 0u) << what;
     EXPECT_GE(it.local_access_ratio, 0.0) << what;
     EXPECT_LE(it.local_access_ratio, 1.0) << what;

@@ -72,7 +72,10 @@ double PluginParams::get_double(std::string_view key) const {
 }
 
 void PluginParams::report_unused() const {
-  for (const auto& [key, value] : values_) {
+  for (const auto& item : values_) {
+    // Named references, not a structured binding: clang 14 cannot capture those.
+    const std::string& key = item.first;
+    const std::string& value = item.second;
     const bool declared =
         std::any_of(specs_.begin(), specs_.end(), [&](const ParamSpec& p) { return key == p.key; });
     if (!declared)
