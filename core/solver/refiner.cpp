@@ -300,17 +300,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
   RefineCounters total;
   for (std::size_t i = 0; i < workers.size(); ++i) {
     RefineCounters& c = workers[i].c;
-    const StageWorkerCounters& d = stage.per_worker[i];
-    c.tasks = d.tasks;
-    c.busy_s = d.busy_s;
-    c.idle_s = d.idle_s;
-    c.cpu_s = d.cpu_s;
-    c.load_s = d.load_s;
-    c.compact_s = d.finish_s;
-    c.takes = d.takes;
-    c.submits = d.submits;
-    c.bound = d.bound;
-    c.bind_warning = d.bind_warning;
+    static_cast<StageWorkerCounters&>(c) = stage.per_worker[i];
     total.tasks += c.tasks;
     total.links_created += c.links_created;
     total.links_kept += c.links_kept;
@@ -322,7 +312,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     total.cpu_s += c.cpu_s;
     total.load_s += c.load_s;
     total.link_bytes += c.link_bytes;
-    total.compact_s = std::max(total.compact_s, c.compact_s);
+    total.finish_s = std::max(total.finish_s, c.finish_s);
     total.takes += c.takes;
     total.submits += c.submits;
     total.per_worker.push_back(c);

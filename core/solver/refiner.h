@@ -11,6 +11,7 @@
 #include "core/parallel/lock_pool.h"
 #include "core/parallel/pin_plan.h"
 #include "core/parallel/trace.h"
+#include "core/stage/run_stage.h"
 #include "core/transport/transport.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
@@ -43,33 +44,22 @@ struct RefineLimits {
   bool independent_estimates = false;
 };
 
-/// What one refinement stage did, summed over refiners.
-struct RefineCounters {
-  std::uint64_t tasks = 0;
+/// What one refinement stage did. The driver's figures are inherited
+/// (StageWorkerCounters: tasks, busy, idle, load and CPU time, takes, submits, binding;
+/// its finish_s is the time to compact the stage's link lists,
+/// core/hierarchy/link_list.h); in the total they are summed over refiners, finish_s
+/// the longest, and bound / bind_warning unused. The rule's own follow.
+struct RefineCounters : StageWorkerCounters {
   std::uint64_t links_created = 0;  ///< accepted links that were not links before
   std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
   std::uint64_t culled = 0;         ///< pairs that cannot exchange light
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;  ///< rays not cast thanks to culling
-  double busy_s =
-      0;  ///< summed over refiners: wall time in the refinement loop, less idle and loading
-  double idle_s = 0;  ///< summed over refiners: waiting for tasks
-  /// Summed over refiners: CPU time of the refiner's thread over the whole stage
-  /// (its own clock, core/base/clock.h), which stops while the thread waits for a core.
-  double cpu_s = 0;
-  int peak_parallelism = 0;      ///< most refiners busy at once
-  double load_s = 0;             ///< summed over refiners: time loading initial tasks
-  std::uint64_t link_bytes = 0;  ///< bytes in the refiner's link arena after compaction
-  /// Time to compact the stage's link lists (core/hierarchy/link_list.h) after the last task:
-  /// per refiner, and in the total the longest.
-  double compact_s = 0;
-  std::uint64_t takes = 0;    ///< take() calls that returned tasks
-  std::uint64_t submits = 0;  ///< submit() calls
+  int peak_parallelism = 0;        ///< most refiners busy at once
+  std::uint64_t link_bytes = 0;    ///< bytes in the refiner's link arena after compaction
   /// Tasks whose receiver's memory (Element::home_node) is on this refiner's node,
   /// and on another node (see set_binding).
   std::uint64_t tasks_local = 0, tasks_remote = 0;
-  const char* bound = "none";  ///< per refiner: what bind_thread said (core/parallel/pin_plan.h)
-  std::string bind_warning;    ///< per refiner: why binding failed, if it did
   /// The stage stopped because its arenas passed RefineLimits::max_bytes (it is then
   /// unfinished); `arena_bytes` is what they held when that was seen.
   bool over_memory = false;

@@ -310,7 +310,7 @@ RefineCounters Solver::Impl::refine(RunState& r, int it, IterationStats& is) {
   is.idle_s = rc.idle_s;
   is.peak_parallelism = rc.peak_parallelism;
   is.load_s = rc.load_s + r.reload_s;
-  is.link_compact_s = rc.compact_s;
+  is.link_compact_s = rc.finish_s;  // the stage's finish: link compaction
   is.tasks = rc.tasks;
   is.links_created = rc.links_created;
   is.rays_cast = rc.rays_cast;
