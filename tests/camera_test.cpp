@@ -6,6 +6,7 @@
 #include "core/scene/builtin_scenes.h"
 #include "core/scene/camera_spec.h"
 #include "core/scene/scene_loader.h"
+#include "tests/error_text.h"
 #include "tests/thick_box.h"
 
 #include <gtest/gtest.h>
@@ -23,19 +24,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
-
-template <class E, class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::contains;
+using test::error_of;
 
 /// A folder of its own for the running test, removed at the end.
 class TempDir {

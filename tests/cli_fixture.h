@@ -2,6 +2,7 @@
 // temporary folder of its own and captures its exit status, stdout and stderr.
 #pragma once
 
+#include "tests/error_text.h"
 #include "tests/read_text.h"
 
 #include <gtest/gtest.h>
@@ -21,10 +22,6 @@ struct Result {
   int status = -1;
   std::string out, err;
 };
-
-inline bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
 
 class Cli : public ::testing::Test {
  protected:

@@ -1,6 +1,7 @@
 #include "core/config/options_io.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
+#include "tests/error_text.h"
 #include "tests/read_text.h"
 
 #include <gtest/gtest.h>
@@ -14,20 +15,8 @@
 namespace hrad {
 namespace {
 
-// The message of the std::invalid_argument thrown by f ("" when nothing is thrown).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
-
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
+using test::contains;
+using test::error_of;
 
 SolverOptions non_default_options() {
   SolverOptions o;

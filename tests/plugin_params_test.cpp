@@ -6,6 +6,7 @@
 #include "core/solver/solver.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
+#include "tests/error_text.h"
 
 #include <gtest/gtest.h>
 
@@ -16,17 +17,8 @@
 namespace hrad {
 namespace {
 
-std::string error_of(const auto& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
+using test::contains;
+using test::error_of;
 
 const ParamSpec kSpecs[] = {
     {"count", ParamSpec::Type::Int, 3, 0, 10, "how many"},
