@@ -58,10 +58,8 @@ const ParamSpec& PluginParams::spec(std::string_view key, ParamSpec::Type type) 
 int PluginParams::get_int(std::string_view key) const {
   const ParamSpec& s = spec(key, ParamSpec::Type::Int);
   const auto it = values_.find(key);
-  const std::string text = it == values_.end()
-                               ? number_text(s.fallback)
-                               : check_param_value(s, it->second, owner_ + " " + s.key);
-  return std::stoi(text);
+  if (it == values_.end()) return static_cast<int>(s.fallback);
+  return std::stoi(check_param_value(s, it->second, owner_ + " " + s.key));
 }
 
 double PluginParams::get_double(std::string_view key) const {

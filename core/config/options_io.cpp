@@ -387,9 +387,7 @@ std::string option_value_string(const SolverOptions& o, std::string_view key) {
     if (!p) unknown_key("option_value_string", key);
     if (selected(o, *p) != p->plugin) return "";
     const auto it = o.plugin_params.find(p->key);
-    return it != o.plugin_params.end()
-               ? it->second
-               : check_param_value(p->spec, fmt::format("{}", p->spec.fallback), p->key);
+    return it != o.plugin_params.end() ? it->second : fmt::format("{}", p->spec.fallback);
   }
   return std::visit(
       [&](auto member) -> std::string {
