@@ -35,7 +35,7 @@ SolverOptions non_default_options() {
   o.gather_tolerance = 1e-9;
   o.max_gather_sweeps = 12;
   o.cluster_model = ClusterModel::Isotropic;
-  o.cluster_receiver = ClusterReceiver::Cosine;
+  o.cluster_receiver = ClusterReceiver::Isotropic;
   o.row_sums = RowSumMode::Normalize;
   o.row_sum_rays = 5;
   o.locks_pool = 64;
@@ -228,10 +228,10 @@ TEST(OptionsIo, SetAssignmentParsesEachType) {
 TEST(OptionsIo, SetAcceptsDottedAndDashedAliases) {
   SolverOptions o;
   apply_option_assignment(o, "locks.pool=16");
-  apply_option_assignment(o, "cluster.receiver=cosine");
+  apply_option_assignment(o, "cluster.receiver=isotropic");
   apply_option_assignment(o, "block-size=100");
   EXPECT_EQ(o.locks_pool, 16);
-  EXPECT_EQ(o.cluster_receiver, ClusterReceiver::Cosine);
+  EXPECT_EQ(o.cluster_receiver, ClusterReceiver::Isotropic);
   EXPECT_EQ(o.block_size, 100);
   ASSERT_NE(find_option("locks.pool"), nullptr);
   EXPECT_EQ(find_option("locks.pool")->name, "locks_pool");
@@ -273,7 +273,7 @@ TEST(OptionsIo, ValueStringFormatsCurrentValue) {
 TEST(OptionsIo, DefaultsAndRoundTripValuesAreValid) {
   EXPECT_NO_THROW(validate_options(SolverOptions{}));
   SolverOptions o = non_default_options();
-  o.cluster_receiver = ClusterReceiver::Isotropic;
+  o.cluster_receiver = ClusterReceiver::Cosine;
   EXPECT_NO_THROW(validate_options(o));
 }
 
