@@ -50,6 +50,7 @@ SolverOptions non_default_options() {
   o.shading = Shading::Flat;
   o.exposure = -2.5;
   o.decision_rays = DecisionRays::Independent;
+  o.push_visibility = PushVisibility::Child;
   // The selected plug-ins' own parameters (every one they declare).
   o.plugin_params = {{"scheduler.stealing.victims", "3"},
                      {"oracle.error.occluded_cluster_weight", "2.5"},
@@ -90,6 +91,7 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.shading, b.shading);
   EXPECT_EQ(a.exposure, b.exposure);
   EXPECT_EQ(a.decision_rays, b.decision_rays);
+  EXPECT_EQ(a.push_visibility, b.push_visibility);
   EXPECT_EQ(a.plugin_params, b.plugin_params);
 }
 
@@ -114,7 +116,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
       selected += chosen;
     }
   }
-  EXPECT_EQ(fields, 30u);  // one per field of SolverOptions but plugin_params
+  EXPECT_EQ(fields, 31u);  // one per field of SolverOptions but plugin_params
   std::size_t declared = 0;
   for (const std::string& n : scheduler_names()) declared += scheduler_params(n).size();
   for (const std::string& n : oracle_names()) declared += oracle_params(n).size();
@@ -299,6 +301,7 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
       {"max_gather_sweeps=0", "max_gather_sweeps"},
       {"locks_pool=-2", "locks_pool"},
       {"decision_rays=fresh", "decision_rays"},
+      {"push_visibility=rays", "push_visibility"},
       {"image_width=0", "image_width"},
       {"shading=phong", "shading"},
       {"exposure=65", "exposure"},

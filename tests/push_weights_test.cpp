@@ -125,5 +125,61 @@ TEST(PushWeights, AdjacentWallFavoursTheNearChildren) {
   }
 }
 
+// push_visibility = child: a child behind an occluder gets its own, lower visibility to
+// the source instead of its parent's mean. The floor of the room with a floating cube
+// and octahedron, linked to the ceiling with the visibility its rays see (partly
+// blocked): with the link's visibility every child's weight is its centre's form factor
+// relative to the others' (as above); with the children's own, the child that sees the
+// least of the ceiling loses most, the one that sees the most gains, and the
+// area-weighted mean stays 1 in both modes.
+TEST(PushWeights, ChildVisibilityMovesLightAwayFromTheShadowedChildren) {
+  const Scene scene = make_builtin("builtin:furnace?objects=1");
+  Hierarchy h{scene, 1};
+  const RayScene rays = RayScene::from_scene(scene);
+  const Transport transport{h, rays, 16, 1};
+  LockPool locks{2, 1};
+  Element *floor = nullptr, *ceiling = nullptr;
+  for (Element* e : h.elements()) {
+    if (e->is_cluster() || e->depth != 0 || e->area < 0.5) continue;  // the room's walls
+    if (e->normal.y() > 0.5) floor = e;
+    if (e->normal.y() < -0.5) ceiling = e;
+  }
+  ASSERT_NE(floor, nullptr);
+  ASSERT_NE(ceiling, nullptr);
+  std::uint64_t cast = 0;
+  const double v = transport.visibility(*floor, *ceiling, cast);
+  ASSERT_GT(v, 0.5);
+  ASSERT_LT(v, 1.0) << "the floating objects should hide part of the ceiling";
+  ceiling->B = Rgb::Ones();
+  const std::vector<Link> links{Link{
+      ceiling, static_cast<float>(transport.form_factor(*floor, *ceiling)), static_cast<float>(v)}};
+  h.store_links(*floor, links, 0);
+  const auto kids = h.subdivide(*floor, 0, locks);
+  ASSERT_EQ(kids.size(), 4u);
+  PushWeights weights;
+  EXPECT_EQ(weights.update(h.elements(), transport, 1, PushVisibility::Link), 0u);
+  weights.apply(false);
+  std::vector<double> by_link;
+  for (const Element& c : kids) by_link.push_back(c.push_weight);
+  EXPECT_NEAR(area_weighted_sum(kids), floor->area, 1e-6 * floor->area);
+  EXPECT_EQ(weights.update(h.elements(), transport, 1, PushVisibility::Child), 4u * 16u)
+      << "one visibility estimate per child of the partly visible link";
+  weights.apply(false);
+  EXPECT_NEAR(area_weighted_sum(kids), floor->area, 1e-6 * floor->area);
+  std::size_t darkest = 0, brightest = 0;
+  std::vector<double> own;
+  for (const Element& c : kids) {
+    std::uint64_t r = 0;
+    own.push_back(transport.visibility(c, *ceiling, r));
+  }
+  for (std::size_t k = 0; k < kids.size(); ++k) {
+    if (own[k] < own[darkest]) darkest = k;
+    if (own[k] > own[brightest]) brightest = k;
+  }
+  ASSERT_GT(own[brightest] - own[darkest], 0.1) << "the occluders should shade one child more";
+  EXPECT_LT(kids[darkest].push_weight / by_link[darkest], 0.95);
+  EXPECT_GT(kids[brightest].push_weight / by_link[brightest], 1.02);
+}
+
 }  // namespace
 }  // namespace hrad

@@ -206,6 +206,53 @@ TEST(SolverDecisionRays, IndependentEstimatesKeepTheLinkSet) {
   EXPECT_GT(changed, 0);
 }
 
+// push_visibility = child: each child its own visibility to its parent's partly
+// visible links in the push weights. In the cluttered furnace (rho 0.5, exact B = 2)
+// leaves beside the boxes stop inheriting light the boxes block, so more of the area
+// is within 3 % of the exact value (86 -> 90 % of the leaf area here, 2 iterations;
+// asserted: at least 3 points more) and the worst leaf is nearer; the push rays are
+// counted; and the result does not depend on the thread count.
+TEST(SolverPushVisibility, ChildVisibilityNarrowsTheClutteredFurnace) {
+  const Scene scene = make_builtin("builtin:furnace?objects=2&rho=0.5");
+  SolverOptions o;
+  o.iterations = 2;
+  const auto solve = [&](PushVisibility mode, int threads, RunStats* stats) {
+    o.push_visibility = mode;
+    o.threads = threads;
+    Solver s(scene, o);
+    *stats = s.run();
+    return s.leaves();
+  };
+  const auto within = [](const std::vector<Solver::Leaf>& leaves, double* worst) {
+    double near = 0, total = 0;
+    *worst = 0;
+    for (const auto& l : leaves) {
+      const double d = std::abs(l.radiosity[0] - 2.0) / 2.0;
+      if (l.radiosity[0] < 1.5) continue;  // closed in by a contact (B = E there)
+      total += l.area;
+      if (d <= 0.03) near += l.area;
+      *worst = std::max(*worst, d);
+    }
+    return near / total;
+  };
+  RunStats link_stats, child_stats, child2_stats;
+  const auto by_link = solve(PushVisibility::Link, 1, &link_stats);
+  const auto by_child = solve(PushVisibility::Child, 1, &child_stats);
+  const auto by_child2 = solve(PushVisibility::Child, 2, &child2_stats);
+  double worst_link = 0, worst_child = 0;
+  const double near_link = within(by_link, &worst_link),
+               near_child = within(by_child, &worst_child);
+  std::printf("[ PushVisibility ] area within 3 %%: link %.3f, child %.3f; worst %.3f, %.3f\n",
+              near_link, near_child, worst_link, worst_child);
+  EXPECT_GT(near_child, near_link + 0.03);
+  EXPECT_LT(worst_child, worst_link);
+  EXPECT_GT(child_stats.iterations.back().rays_cast, link_stats.iterations.back().rays_cast);
+  ASSERT_EQ(by_child.size(), by_child2.size());
+  for (std::size_t i = 0; i < by_child.size(); ++i)
+    ASSERT_NEAR(by_child[i].radiosity[0], by_child2[i].radiosity[0],
+                1e-9 * by_child[i].radiosity[0]);
+}
+
 // Clamping row sums at 1 is a physical bound: with uniform E and rho no leaf can
 // then exceed E / (1 - rho) (maximum principle), whatever the links.
 TEST(SolverFurnace, ClampedRowSumsNeverExceedClosedForm) {

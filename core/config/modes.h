@@ -72,6 +72,18 @@ constexpr std::span<const EnumName<DecisionRays>> enum_names(DecisionRays) {
   return kDecisionRaysNames;
 }
 
+/// push_visibility: the visibility a push weight gives a child for each partly
+/// visible link of its parent's surface chain (core/solver/push_weights.h).
+enum class PushVisibility : std::uint8_t { Link, Child };
+inline constexpr EnumName<PushVisibility> kPushVisibilityNames[] = {
+    {PushVisibility::Link, "link", "every child the link's own visibility"},
+    {PushVisibility::Child, "child",
+     "each child its own, from visibility_rays rays per child and link (costs rays)"},
+};
+constexpr std::span<const EnumName<PushVisibility>> enum_names(PushVisibility) {
+  return kPushVisibilityNames;
+}
+
 /// shading: how render.png and solution.ply shade the leaves (core/output/smooth_shading.h).
 enum class Shading : std::uint8_t { Smooth, Flat };
 inline constexpr EnumName<Shading> kShadingNames[] = {

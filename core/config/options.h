@@ -31,6 +31,7 @@
 // | effects             | EffectsMode     | auto         | core/config/modes.h, effects.h          |
 // | shaft_culling       | ShaftCulling    | off          | core/config/modes.h                     |
 // | decision_rays       | DecisionRays    | shared       | core/config/modes.h                     |
+// | push_visibility     | PushVisibility  | link         | core/config/modes.h, push_weights.h     |
 // | max_memory_gb       | double          | 0            | refinement's memory limit (0: 3/4 RAM)  |
 // | camera              | string          | ""           | core/scene/camera_spec.h, auto, or ""   |
 // | sides               | Sides           | auto         | core/scene/back_faces.h                 |
@@ -79,6 +80,7 @@ struct SolverOptions {
   EffectsMode effects = EffectsMode::Auto;
   ShaftCulling shaft_culling = ShaftCulling::Off;
   DecisionRays decision_rays = DecisionRays::Shared;
+  PushVisibility push_visibility = PushVisibility::Link;
   double max_memory_gb = 0;
   std::string camera;
   Sides sides = Sides::Auto;

@@ -20,10 +20,11 @@ namespace {
 using S = SolverOptions;
 // One alternative per field type; a mode (an enum with a table of names,
 // core/base/enum_names.h) is written and read as its name.
-using Member = std::variant<int S::*, std::uint64_t S::*, double S::*, std::string S::*,
-                            PinPolicy S::*, MemBind S::*, PoolOrder S::*, ClusterModel S::*,
-                            ClusterReceiver S::*, RowSumMode S::*, EffectsMode S::*,
-                            ShaftCulling S::*, DecisionRays S::*, Sides S::*, Shading S::*>;
+using Member =
+    std::variant<int S::*, std::uint64_t S::*, double S::*, std::string S::*, PinPolicy S::*,
+                 MemBind S::*, PoolOrder S::*, ClusterModel S::*, ClusterReceiver S::*,
+                 RowSumMode S::*, EffectsMode S::*, ShaftCulling S::*, DecisionRays S::*,
+                 PushVisibility S::*, Sides S::*, Shading S::*>;
 
 template <class T>
 constexpr bool kIsMode = std::is_enum_v<T>;
@@ -78,6 +79,8 @@ const std::vector<Row>& rows() {
       {"effects", &S::effects, "which effects are computed"},
       {"shaft_culling", &S::shaft_culling, "visibility without rays where a shaft is empty"},
       {"decision_rays", &S::decision_rays, "which rays an accepted link's visibility is from"},
+      {"push_visibility", &S::push_visibility,
+       "the visibility a push weight gives each child for a partly visible link"},
       {"max_memory_gb", &S::max_memory_gb,
        "refinement stops with an error when its elements and links pass this many GB (0: "
        "3/4 of the machine's physical memory)"},

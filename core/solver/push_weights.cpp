@@ -18,6 +18,12 @@ namespace {
 // element's chain is far from it, and the weights' normalisation takes out what is
 // common to all children.
 constexpr double kFarSource = 3.0;
+// With push_visibility = child, a child's own visibility to a source is per unit of its
+// open area (the rays count its closed-in part as blocked, and what the push hands on
+// is per unit of open area), at most 1, its open fraction taken as at least this (as
+// the propagation's open_gain does: a mostly closed-in child's few open samples are
+// not blown up).
+constexpr double kMinOpenShare = 0.25;
 
 double point_weight(const Vec3& x, const Vec3& n, const Element& s, const Transport& transport) {
   if (s.is_cluster()) return transport.form_factor_from_point(x, n, s);
@@ -37,21 +43,27 @@ double point_weight(const Vec3& x, const Vec3& n, const Element& s, const Transp
 // weights when every source is dark), each set normalised to an open-area mean of 1
 // over the children (which also takes out the difference between the centre values and
 // the links' own quadrature on average). A chain without links leaves both at 1.
-void weigh_children(const Element& p, const Transport& transport, bool any_light,
-                    std::vector<std::pair<const Element*, double>>& chain, float* light,
-                    float* geometry) {
+std::uint64_t weigh_children(const Element& p, const Transport& transport, bool any_light,
+                             PushVisibility mode,
+                             std::vector<std::pair<const Element*, double>>& chain, float* light,
+                             float* geometry) {
   const auto kids = p.child_span();
   chain.clear();
   for (const Element* a = &p; a != nullptr && !a->is_cluster(); a = a->parent)
     for (const Link& l : a->links) chain.emplace_back(l.source, static_cast<double>(l.visibility));
-  if (chain.empty()) return;
+  if (chain.empty()) return 0;
+  std::uint64_t rays = 0;
   double open_area = 0, by_light = 0, by_geometry = 0;
   for (std::size_t k = 0; k < kids.size(); ++k) {
     const Element& c = kids[k];
     double wl = 0, wg = 0;
+    const double open_share = std::max(open_weight(c), kMinOpenShare);
     for (const auto& [source, visibility] : chain) {
       if (!(visibility > 0)) continue;
-      const double f = point_weight(c.center, c.normal, *source, transport) * visibility;
+      double v = visibility;
+      if (mode == PushVisibility::Child && visibility < 1)
+        v = std::min(1.0, transport.visibility(c, *source, rays) / open_share);
+      const double f = point_weight(c.center, c.normal, *source, transport) * v;
       wg += f;
       wl += f * source->B.sum();
     }
@@ -71,12 +83,13 @@ void weigh_children(const Element& p, const Transport& transport, bool any_light
   };
   normalise(light, by_light);
   normalise(geometry, by_geometry);
+  return rays;
 }
 
 }  // namespace
 
-void PushWeights::update(const std::vector<Element*>& elements, const Transport& transport,
-                         int threads) {
+std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const Transport& transport,
+                                  int threads, PushVisibility mode) {
   bool any_light = false;
   for (const Element* e : elements) any_light = any_light || (e->B > 0).any();
   parents_.clear();
@@ -90,13 +103,16 @@ void PushWeights::update(const std::vector<Element*>& elements, const Transport&
   geometry_.assign(offset_.back(), 1.0f);
   const auto n = static_cast<std::ptrdiff_t>(parents_.size());
   std::vector<std::pair<const Element*, double>> chain;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) firstprivate(chain)
+  std::uint64_t rays = 0;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) firstprivate(chain) \
+    reduction(+ : rays)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const Element& p = *parents_[static_cast<std::size_t>(i)];
     if (p.is_cluster()) continue;
     const std::size_t at = offset_[static_cast<std::size_t>(i)];
-    weigh_children(p, transport, any_light, chain, &light_[at], &geometry_[at]);
+    rays += weigh_children(p, transport, any_light, mode, chain, &light_[at], &geometry_[at]);
   }
+  return rays;
 }
 
 void PushWeights::apply(bool geometric) const {
@@ -108,9 +124,9 @@ void PushWeights::apply(bool geometric) const {
 }
 
 void update_push_weights(const std::vector<Element*>& elements, const Transport& transport,
-                         int threads, bool geometric) {
+                         int threads, bool geometric, PushVisibility mode) {
   PushWeights w;
-  w.update(elements, transport, threads);
+  w.update(elements, transport, threads, mode);
   w.apply(geometric);
 }
 

@@ -357,7 +357,7 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   // row sums (clamp, normalize) must act on the propagation's own operator, so it
   // measures them with the light weights (in a furnace, normalize is then exact).
   PushWeights push_weights;
-  push_weights.update(elements, transport, o.threads);
+  is.rays_cast += push_weights.update(elements, transport, o.threads, o.push_visibility);
   const bool geometric_row_sums = row_sum_mode == RowSumMode::Keep;
   push_weights.apply(geometric_row_sums);
   is.rays_cast += open.rays_cast;
