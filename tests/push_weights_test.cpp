@@ -179,6 +179,19 @@ TEST(PushWeights, ChildVisibilityMovesLightAwayFromTheShadowedChildren) {
   ASSERT_GT(own[brightest] - own[darkest], 0.1) << "the occluders should shade one child more";
   EXPECT_LT(kids[darkest].push_weight / by_link[darkest], 0.95);
   EXPECT_GT(kids[brightest].push_weight / by_link[brightest], 1.02);
+  // The next update on the same hierarchy reuses the children's visibilities: no rays,
+  // the same weights. A new level below (the children of one child, which inherit the
+  // floor's link) casts rays for its own children only.
+  std::vector<float> first;
+  for (const Element& c : kids) first.push_back(c.push_weight);
+  EXPECT_EQ(weights.update(h.elements(), transport, 1, PushVisibility::Child), 0u);
+  weights.apply(false);
+  for (std::size_t k = 0; k < kids.size(); ++k) EXPECT_EQ(kids[k].push_weight, first[k]);
+  const auto grandkids = h.subdivide(kids[darkest], 0, locks);
+  EXPECT_EQ(weights.update(h.elements(), transport, 1, PushVisibility::Child),
+            grandkids.size() * 16u);
+  weights.apply(false);
+  for (std::size_t k = 0; k < kids.size(); ++k) EXPECT_EQ(kids[k].push_weight, first[k]);
 }
 
 }  // namespace

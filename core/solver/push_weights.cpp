@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <numbers>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -43,26 +44,72 @@ double point_weight(const Vec3& x, const Vec3& n, const Element& s, const Transp
 // weights when every source is dark), each set normalised to an open-area mean of 1
 // over the children (which also takes out the difference between the centre values and
 // the links' own quadrature on average). A chain without links leaves both at 1.
+// The children's own visibility to chain entry j (push_visibility = child), from the
+// previous update's `old` where it has the source, else from rays; kept in `now`.
+// Entries with V = 0 or 1 get none (the link's value stands).
+std::uint64_t own_visibilities(const Element& p, const Transport& transport,
+                               const std::vector<std::pair<const Element*, double>>& chain,
+                               const PushWeights::ChildVisibility* old,
+                               PushWeights::ChildVisibility& now, std::vector<float>& table) {
+  const auto kids = p.child_span();
+  const std::size_t n = kids.size();
+  std::uint64_t rays = 0;
+  now.sources.clear();
+  for (const auto& [source, visibility] : chain)
+    if (visibility > 0 && visibility < 1) now.sources.push_back(source);
+  std::sort(now.sources.begin(), now.sources.end());
+  now.sources.erase(std::unique(now.sources.begin(), now.sources.end()), now.sources.end());
+  now.visibility.assign(now.sources.size() * n, 0.0f);
+  for (std::size_t j = 0; j < now.sources.size(); ++j) {
+    const Element* s = now.sources[j];
+    float* out = &now.visibility[j * n];
+    if (old != nullptr) {
+      const auto at = std::lower_bound(old->sources.begin(), old->sources.end(), s);
+      if (at != old->sources.end() && *at == s) {
+        const auto i = static_cast<std::size_t>(at - old->sources.begin());
+        std::copy_n(old->visibility.begin() + static_cast<std::ptrdiff_t>(i * n), n, out);
+        continue;
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k)
+      out[k] = static_cast<float>(transport.visibility(kids[k], *s, rays));
+  }
+  // One row per chain entry, in chain order (-1: the link's own visibility stands).
+  table.assign(chain.size() * n, -1.0f);
+  for (std::size_t e = 0; e < chain.size(); ++e) {
+    const auto& [source, visibility] = chain[e];
+    if (!(visibility > 0 && visibility < 1)) continue;
+    const auto j = static_cast<std::size_t>(
+        std::lower_bound(now.sources.begin(), now.sources.end(), source) - now.sources.begin());
+    std::copy_n(now.visibility.begin() + static_cast<std::ptrdiff_t>(j * n), n, &table[e * n]);
+  }
+  return rays;
+}
+
 std::uint64_t weigh_children(const Element& p, const Transport& transport, bool any_light,
                              PushVisibility mode,
-                             std::vector<std::pair<const Element*, double>>& chain, float* light,
-                             float* geometry) {
+                             std::vector<std::pair<const Element*, double>>& chain,
+                             const PushWeights::ChildVisibility* old,
+                             PushWeights::ChildVisibility& now, std::vector<float>& table,
+                             float* light, float* geometry) {
   const auto kids = p.child_span();
   chain.clear();
   for (const Element* a = &p; a != nullptr && !a->is_cluster(); a = a->parent)
     for (const Link& l : a->links) chain.emplace_back(l.source, static_cast<double>(l.visibility));
   if (chain.empty()) return 0;
   std::uint64_t rays = 0;
+  if (mode == PushVisibility::Child) rays = own_visibilities(p, transport, chain, old, now, table);
   double open_area = 0, by_light = 0, by_geometry = 0;
   for (std::size_t k = 0; k < kids.size(); ++k) {
     const Element& c = kids[k];
     double wl = 0, wg = 0;
     const double open_share = std::max(open_weight(c), kMinOpenShare);
-    for (const auto& [source, visibility] : chain) {
+    for (std::size_t e = 0; e < chain.size(); ++e) {
+      const auto& [source, visibility] = chain[e];
       if (!(visibility > 0)) continue;
       double v = visibility;
       if (mode == PushVisibility::Child && visibility < 1)
-        v = std::min(1.0, transport.visibility(c, *source, rays) / open_share);
+        v = std::min(1.0, static_cast<double>(table[e * kids.size() + k]) / open_share);
       const double f = point_weight(c.center, c.normal, *source, transport) * v;
       wg += f;
       wl += f * source->B.sum();
@@ -102,16 +149,30 @@ std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const T
   light_.assign(offset_.back(), 1.0f);
   geometry_.assign(offset_.back(), 1.0f);
   const auto n = static_cast<std::ptrdiff_t>(parents_.size());
+  // The previous update's children's visibilities, by parent (push_visibility = child).
+  std::unordered_map<const Element*, std::size_t> previous;
+  if (mode == PushVisibility::Child)
+    for (std::size_t i = 0; i < old_parents_.size(); ++i) previous.emplace(old_parents_[i], i);
+  std::vector<ChildVisibility> now(mode == PushVisibility::Child ? parents_.size() : 0);
   std::vector<std::pair<const Element*, double>> chain;
+  std::vector<float> table;
+  ChildVisibility unused;
   std::uint64_t rays = 0;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) firstprivate(chain) \
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) firstprivate(chain, table) \
     reduction(+ : rays)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const Element& p = *parents_[static_cast<std::size_t>(i)];
+    const auto u = static_cast<std::size_t>(i);
+    const Element& p = *parents_[u];
     if (p.is_cluster()) continue;
-    const std::size_t at = offset_[static_cast<std::size_t>(i)];
-    rays += weigh_children(p, transport, any_light, mode, chain, &light_[at], &geometry_[at]);
+    const std::size_t at = offset_[u];
+    const ChildVisibility* old = nullptr;
+    if (const auto it = previous.find(&p); it != previous.end()) old = &own_[it->second];
+    rays += weigh_children(p, transport, any_light, mode, chain, old, now.empty() ? unused : now[u],
+                           table, &light_[at], &geometry_[at]);
   }
+  own_ = std::move(now);
+  old_parents_.clear();
+  if (mode == PushVisibility::Child) old_parents_.assign(parents_.begin(), parents_.end());
   return rays;
 }
 

@@ -34,9 +34,9 @@
 // leaves beside a box had B up to 1.19 of the exact value. With push_visibility =
 // child each child's weight uses its own visibility to each partly visible source of
 // the chain (visibility_rays rays per child and link, Transport::visibility, per unit
-// of the child's open area), which takes the office's worst probe from 25 to 10 % and
-// the furnace's from 5 to 1.7 %, but more than doubles the office's run
-// (README, "Accuracy after issue 13's eighth step").
+// of the child's open area, kept for the next update), which takes the office's worst
+// probe from 25 to 10 % and the furnace's from 5 to 1.7 % in 39 % more time on the
+// office (README, "Accuracy after issue 13's eighth step").
 //
 // A surface source farther than a few of its radii from a child is weighed by the
 // differential form factor (within about 1/9 of the exact one there), the nearer ones
@@ -65,15 +65,28 @@ class PushWeights {
   /// Computes both sets for `elements` (all of the hierarchy's elements, in any order)
   /// on `threads` threads; nothing is applied yet. The hierarchy's children must not
   /// change before the last apply(). Returns the rays cast (push_visibility = child).
+  /// With push_visibility = child the children's own visibilities are kept, per parent
+  /// and source, for the next update on the same hierarchy: a later refinement stage
+  /// adds links, and only the new parent-source pairs cast rays (the rays are a pure
+  /// function of the two ids and the seed, so the weights are the same either way).
   std::uint64_t update(const std::vector<Element*>& elements, const Transport& transport,
                        int threads, PushVisibility mode = PushVisibility::Link);
   /// Writes one set into every child's push_weight.
   void apply(bool geometric) const;
 
+  /// The children's own visibilities to the partly visible sources of one parent's
+  /// chain: sources sorted, visibility[j * children + k] for source j and child k.
+  struct ChildVisibility {
+    std::vector<const Element*> sources;
+    std::vector<float> visibility;
+  };
+
  private:
   std::vector<Element*> parents_;    ///< elements with children
   std::vector<std::size_t> offset_;  ///< parents_[i]'s children: offset_[i] .. offset_[i + 1]
   std::vector<float> light_, geometry_;
+  std::vector<ChildVisibility> own_;         ///< per old_parents_[i] (push_visibility = child)
+  std::vector<const Element*> old_parents_;  ///< parents_ of the update own_ is from
 };
 
 /// PushWeights::update followed by apply(geometric).

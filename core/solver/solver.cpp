@@ -119,6 +119,9 @@ struct Solver::Impl {
   double emitted_power = 0;  ///< sum over faces of area x largest emission channel
   double total_area = 0;
   Effects effects;  ///< what the scene needs (core/config/effects.h)
+  /// Kept across iterations: with push_visibility = child it holds the children's own
+  /// visibilities for the next iteration's update (core/solver/push_weights.h).
+  PushWeights push_weights;
 
   Impl(const Scene& s, const SolverOptions& o, ProgressFn p)
       : scene(s),
@@ -356,7 +359,6 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   // propagation's push shares light, by the sources' radiosities. A rescale of the
   // row sums (clamp, normalize) must act on the propagation's own operator, so it
   // measures them with the light weights (in a furnace, normalize is then exact).
-  PushWeights push_weights;
   is.rays_cast += push_weights.update(elements, transport, o.threads, o.push_visibility);
   const bool geometric_row_sums = row_sum_mode == RowSumMode::Keep;
   push_weights.apply(geometric_row_sums);
