@@ -60,6 +60,17 @@ Hierarchy::Hierarchy(const Scene& scene, int workers, const ArenaPlacement& plac
 
   face_normal_.resize(nf);
   for (std::uint32_t f = 0; f < nf; ++f) face_normal_[f] = scene.face_normal(f);
+  fan_first_.assign(nf, 0);
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const Face& face = scene.faces[f];
+    if (face.count <= 3) continue;
+    fan_first_[f] = static_cast<std::uint32_t>(fan_area_.size());
+    auto v = [&](std::uint32_t i) -> const Vec3& {
+      return scene.vertices[scene.indices[face.first + i]];
+    };
+    for (std::uint32_t i = 1; i + 1 < face.count; ++i)
+      fan_area_.push_back((v(i) - v(0)).cross(v(i + 1) - v(0)).norm());
+  }
   prefix_area_.assign(nf + 1, 0.0);
   for (std::uint32_t i = 0; i < nf; ++i)
     prefix_area_[i + 1] = prefix_area_[i] + scene.face_area(order_[i]);
@@ -247,12 +258,12 @@ Vec3 Hierarchy::sample_face(std::uint32_t face, double u1, double u2, double u3)
   // Fan triangle chosen by area with u3, then a uniform point in it.
   std::uint32_t tri = 1;
   if (f.count > 3) {
+    const double* fan = fan_area_.data() + fan_first_[face];  // triangle i at fan[i - 1]
     double total = 0;
-    for (std::uint32_t i = 1; i + 1 < f.count; ++i)
-      total += (v(i) - v(0)).cross(v(i + 1) - v(0)).norm();
+    for (std::uint32_t i = 1; i + 1 < f.count; ++i) total += fan[i - 1];
     double target = u3 * total;
     for (tri = 1; tri + 2 < f.count; ++tri) {
-      target -= (v(tri) - v(0)).cross(v(tri + 1) - v(0)).norm();
+      target -= fan[tri - 1];
       if (target < 0) break;
     }
   }
@@ -388,7 +399,8 @@ const NodeArena& Hierarchy::arena(int worker) const {
 std::size_t Hierarchy::element_bytes() const {
   return element_count() * sizeof(Element) + ngon_store_.capacity() * sizeof(Vec3) +
          order_.capacity() * sizeof(std::uint32_t) + prefix_area_.capacity() * sizeof(double) +
-         face_normal_.capacity() * sizeof(Vec3);
+         face_normal_.capacity() * sizeof(Vec3) + fan_first_.capacity() * sizeof(std::uint32_t) +
+         fan_area_.capacity() * sizeof(double);
 }
 
 }  // namespace hrad

@@ -117,7 +117,11 @@ class Hierarchy {
   std::vector<std::uint32_t> order_;  ///< faces in cluster order
   std::vector<double> prefix_area_;   ///< prefix sums of face areas in order_
   std::vector<Vec3> face_normal_;     ///< unit normal of each input polygon
-  std::vector<Vec3> ngon_store_;      ///< corners of input polygons with > 4 vertices
+  /// Polygons with more than 3 corners: twice the area of each fan triangle (corner 0,
+  /// i, i + 1), from fan_area_[fan_first_[face]] on, for sample_face.
+  std::vector<std::uint32_t> fan_first_;
+  std::vector<double> fan_area_;
+  std::vector<Vec3> ngon_store_;  ///< corners of input polygons with > 4 vertices
   std::vector<std::unique_ptr<Arena>> arenas_;
   Element* root_ = nullptr;
 };
