@@ -75,16 +75,15 @@ Partition partition(const std::vector<Element*>& elements, int threads) {
 
 // What an element's own links deliver, per unit of its whole area, becomes per unit
 // of open area: the links' visibility already counted the closed-in part as blocked.
-// A mostly closed-in leaf is divided by at most 1 / kMinOpen, so that the noise of its
-// few open samples (its w comes from kOpenPoints points, its links' visibility from a
-// few rays) is not blown up; a wholly closed-in element gathers nothing. A parent's w
-// is a mean over its children, not a small sample, and is used as it is.
-constexpr double kMinOpen = 0.25;
+// A mostly closed-in leaf is divided by at most 1 / kMinOpenFraction, so that the noise
+// of its few open samples (its w comes from kOpenPoints points, its links' visibility
+// from a few rays) is not blown up; a wholly closed-in element gathers nothing. A
+// parent's w is a mean over its children, not a small sample, and is used as it is.
 double open_gain(const Element& e) {
   const double w = open_weight(e);
   if (w <= 0) return 0.0;
   const bool leaf = !e.is_cluster() && e.child_span().empty();
-  return 1.0 / (leaf ? std::max(w, kMinOpen) : w);
+  return 1.0 / (leaf ? std::max(w, kMinOpenFraction) : w);
 }
 
 void push_one(Element* e, bool cosine) {

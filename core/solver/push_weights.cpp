@@ -21,10 +21,8 @@ namespace {
 constexpr double kFarSource = 3.0;
 // With push_visibility = child, a child's own visibility to a source is per unit of its
 // open area (the rays count its closed-in part as blocked, and what the push hands on
-// is per unit of open area), at most 1, its open fraction taken as at least this (as
-// the propagation's open_gain does: a mostly closed-in child's few open samples are
-// not blown up).
-constexpr double kMinOpenShare = 0.25;
+// is per unit of open area), at most 1, its open fraction taken as at least
+// kMinOpenFraction.
 
 double point_weight(const Vec3& x, const Vec3& n, const Element& s, const Transport& transport) {
   if (s.is_cluster()) return transport.form_factor_from_point(x, n, s);
@@ -37,20 +35,14 @@ double point_weight(const Vec3& x, const Vec3& n, const Element& s, const Transp
   return s.area * cos_x * cos_s / (std::numbers::pi * dist2 * dist2);
 }
 
-// Both sets of weights of P's children, into light[k] and geometry[k] (child k): the
-// form factors from each child's centre to the sources of the links of P's surface
-// chain (P and its surface ancestors up to its input polygon), times the links'
-// visibility, and for `light` the sources' radiosity (all channels; the geometric
-// weights when every source is dark), each set normalised to an open-area mean of 1
-// over the children (which also takes out the difference between the centre values and
-// the links' own quadrature on average). A chain without links leaves both at 1.
-// The children's own visibility to chain entry j (push_visibility = child), from the
-// previous update's `old` where it has the source, else from rays; kept in `now`.
-// Entries with V = 0 or 1 get none (the link's value stands).
+// The children's own visibilities to the partly visible sources of P's chain
+// (push_visibility = child), from the previous update's `old` where it has the source,
+// else from rays; kept in `now`, and row[e] is chain entry e's source's row there
+// (entries with V = 0 or 1 have none: the link's value stands).
 std::uint64_t own_visibilities(const Element& p, const Transport& transport,
                                const std::vector<std::pair<const Element*, double>>& chain,
                                const PushWeights::ChildVisibility* old,
-                               PushWeights::ChildVisibility& now, std::vector<float>& table) {
+                               PushWeights::ChildVisibility& now, std::vector<std::size_t>& row) {
   const auto kids = p.child_span();
   const std::size_t n = kids.size();
   std::uint64_t rays = 0;
@@ -74,23 +66,26 @@ std::uint64_t own_visibilities(const Element& p, const Transport& transport,
     for (std::size_t k = 0; k < n; ++k)
       out[k] = static_cast<float>(transport.visibility(kids[k], *s, rays));
   }
-  // One row per chain entry, in chain order (-1: the link's own visibility stands).
-  table.assign(chain.size() * n, -1.0f);
-  for (std::size_t e = 0; e < chain.size(); ++e) {
-    const auto& [source, visibility] = chain[e];
-    if (!(visibility > 0 && visibility < 1)) continue;
-    const auto j = static_cast<std::size_t>(
-        std::lower_bound(now.sources.begin(), now.sources.end(), source) - now.sources.begin());
-    std::copy_n(now.visibility.begin() + static_cast<std::ptrdiff_t>(j * n), n, &table[e * n]);
-  }
+  row.resize(chain.size());
+  for (std::size_t e = 0; e < chain.size(); ++e)
+    row[e] = static_cast<std::size_t>(
+        std::lower_bound(now.sources.begin(), now.sources.end(), chain[e].first) -
+        now.sources.begin());
   return rays;
 }
 
+// Both sets of weights of P's children, into light[k] and geometry[k] (child k): the
+// form factors from each child's centre to the sources of the links of P's surface
+// chain (P and its surface ancestors up to its input polygon), times the links'
+// visibility, and for `light` the sources' radiosity (all channels; the geometric
+// weights when every source is dark), each set normalised to an open-area mean of 1
+// over the children (which also takes out the difference between the centre values and
+// the links' own quadrature on average). A chain without links leaves both at 1.
 std::uint64_t weigh_children(const Element& p, const Transport& transport, bool any_light,
                              PushVisibility mode,
                              std::vector<std::pair<const Element*, double>>& chain,
                              const PushWeights::ChildVisibility* old,
-                             PushWeights::ChildVisibility& now, std::vector<float>& table,
+                             PushWeights::ChildVisibility* now, std::vector<std::size_t>& row,
                              float* light, float* geometry) {
   const auto kids = p.child_span();
   chain.clear();
@@ -98,18 +93,20 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
     for (const Link& l : a->links) chain.emplace_back(l.source, static_cast<double>(l.visibility));
   if (chain.empty()) return 0;
   std::uint64_t rays = 0;
-  if (mode == PushVisibility::Child) rays = own_visibilities(p, transport, chain, old, now, table);
+  const bool own = mode == PushVisibility::Child;
+  if (own) rays = own_visibilities(p, transport, chain, old, *now, row);
   double open_area = 0, by_light = 0, by_geometry = 0;
   for (std::size_t k = 0; k < kids.size(); ++k) {
     const Element& c = kids[k];
     double wl = 0, wg = 0;
-    const double open_share = std::max(open_weight(c), kMinOpenShare);
+    const double open_share = std::max(open_weight(c), kMinOpenFraction);
     for (std::size_t e = 0; e < chain.size(); ++e) {
       const auto& [source, visibility] = chain[e];
       if (!(visibility > 0)) continue;
       double v = visibility;
-      if (mode == PushVisibility::Child && visibility < 1)
-        v = std::min(1.0, static_cast<double>(table[e * kids.size() + k]) / open_share);
+      if (own && visibility < 1)
+        v = std::min(1.0,
+                     static_cast<double>(now->visibility[row[e] * kids.size() + k]) / open_share);
       const double f = point_weight(c.center, c.normal, *source, transport) * v;
       wg += f;
       wl += f * source->B.sum();
@@ -155,10 +152,9 @@ std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const T
     for (std::size_t i = 0; i < old_parents_.size(); ++i) previous.emplace(old_parents_[i], i);
   std::vector<ChildVisibility> now(mode == PushVisibility::Child ? parents_.size() : 0);
   std::vector<std::pair<const Element*, double>> chain;
-  std::vector<float> table;
-  ChildVisibility unused;
+  std::vector<std::size_t> row;
   std::uint64_t rays = 0;
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) firstprivate(chain, table) \
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) firstprivate(chain, row) \
     reduction(+ : rays)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const auto u = static_cast<std::size_t>(i);
@@ -167,8 +163,8 @@ std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const T
     const std::size_t at = offset_[u];
     const ChildVisibility* old = nullptr;
     if (const auto it = previous.find(&p); it != previous.end()) old = &own_[it->second];
-    rays += weigh_children(p, transport, any_light, mode, chain, old, now.empty() ? unused : now[u],
-                           table, &light_[at], &geometry_[at]);
+    rays += weigh_children(p, transport, any_light, mode, chain, old,
+                           now.empty() ? nullptr : &now[u], row, &light_[at], &geometry_[at]);
   }
   own_ = std::move(now);
   old_parents_.clear();

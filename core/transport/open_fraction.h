@@ -45,6 +45,12 @@ inline double open_weight(const Element& e) {
   return e.open < 0 ? 1.0 : static_cast<double>(e.open);
 }
 
+/// The smallest open fraction a few rays' estimate per unit of open area is divided
+/// by: a mostly closed-in element's few open samples are not blown up (the
+/// propagation's gather at leaves, core/solver/propagation.cpp, and the children's own
+/// visibilities of push_visibility = child, core/solver/push_weights.cpp).
+inline constexpr double kMinOpenFraction = 0.25;
+
 /// Points per leaf and rays per point of the estimate.
 inline constexpr int kOpenPoints = 16;
 inline constexpr int kOpenRays = 3;
