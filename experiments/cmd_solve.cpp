@@ -228,6 +228,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   // 1-3: everything that can be wrong with the input, before anything is created.
   SolverOptions options;
   Scene scene;
+  double scene_load_s = 0;
   std::vector<Probe> probes;
   std::unique_ptr<ProgressReporter> progress;
   std::unique_ptr<Solver> solver;
@@ -254,7 +255,9 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     // Loading and preparing can take seconds on large scenes: the line says so.
     progress = std::make_unique<ProgressReporter>(a.quiet);
     progress->update("loading " + fs::path(a.scene).filename().string(), 0);
+    const auto load_start = Clock::now();
     scene = load_scene(a.scene, scene_load_options(options));
+    scene_load_s = seconds_since(load_start);
     if (!a.probes.empty()) {
       probes = read_probes(a.probes);
       if (probes.empty())
@@ -297,6 +300,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   try {
     const std::string started = experiment::now_iso8601();
     stats = solver->run();
+    stats.totals.scene_load_s = scene_load_s;
     progress->finish();
     const auto mesh_start = Clock::now();
     const RenderMesh mesh = solver->render_mesh(options.shading);

@@ -1,19 +1,29 @@
 // `blocked`: the paper's scheduler (Sillion & Hasenfratz 2000, §3.5). One central pool
-// under one lock; a refiner takes a block of up to block_size tasks at once, buffers the
-// tasks it creates in a private table (the driver's `out` vector) and submits them in one
-// locked operation after the block.
+// under one lock; a refiner takes a block of tasks at once, buffers the tasks it creates
+// in a private table (the driver's `out` vector) and submits them in one locked
+// operation after the block.
 //
-// | parameter  | type | default | meaning                                        |
-// |------------|------|---------|------------------------------------------------|
-// | block_size | int  | 1       | at most this many tasks per take()             |
+// | parameter  | type | default | meaning                                                  |
+// |------------|------|---------|----------------------------------------------------------|
+// | block_size | int  | 0       | at most this many tasks per take(); 0: guided (below)    |
+//
+// Block size. With a fixed block the pool's lock is visited once per block_size tasks,
+// whatever they cost. The later iterations re-evaluate about a million kept links at
+// 65-400 ns each, so a block of 10 is a few microseconds of work per visit: on a
+// 16-core machine the lock was busy all the time, and those iterations ran slower on 16
+// refiners than on one. The default (block_size 0) is guided self-scheduling
+// (Polychronopoulos & Kuck 1987; guided_block in scheduler.h): each take hands out
+// ceil(P / 2T) tasks of the P the pool holds, T refiners, at most kGuidedMaxBlock: large
+// blocks while the pool is large, single tasks when it is nearly empty. A fixed
+// block_size (Fig. 7's 1, 10, 100, ...) keeps the paper's behaviour.
 //
 // What differs from `stack` with the same block size is the cost under the lock, not the
 // order. The pool is made of stacks of *chunks*, one chunk per submit():
 //  - submit() copies the batch into a chunk buffer *before* taking the lock; under the
 //    lock it only moves that buffer onto a chunk stack and picks up a recycled buffer
 //    for the thread's next submit: O(1) under the lock whatever the batch size.
-//  - take() copies up to block_size tasks out of chunks under the lock (O(block),
-//    never more); an emptied chunk's buffer goes to a spare list for reuse.
+//  - take() copies up to a block of tasks out of chunks under the lock (O(block), never
+//    more); an emptied chunk's buffer goes to a spare list for reuse.
 // Buffers circulate pool -> spare list -> a thread's spare (thread_local) -> pool, so in
 // steady state no allocation happens, under the lock or outside it.
 //
@@ -26,19 +36,21 @@
 // elements the other had just built: every such task's data came from the other core's
 // cache. Measured on the office at 2 threads, block 10, CPU per task rose 27 % over 1
 // thread that way, and 1-5 % with this order (iteration 1, medians of 5 alternating
-// pairs). The lock, the blocking and their costs are the paper's.
+// pairs). The stacks' bookkeeping lives apart from the lock's cache line.
 //
 // The chunk stack itself is schedulers/chunk_stack.h (shared with `locality`).
 //
-// Lock waits are timed only when the lock is contended (try_lock first), as in
-// CentralPool.
+// The lock is a SpinMutex (core/parallel/spin_mutex.h: waiters spin on a read, then
+// sleep), not std::mutex, whose waiters' try_lock spin wrote the lock's line while its
+// holder worked and whose sleeping waiters turned every hand-off into a futex wake-up.
+// Lock waits are timed only when the lock is contended.
 //
 // submit_and_take() does a refiner's submit and its next take under one acquisition:
 // the driver calls it between two blocks, so a block costs one visit to the pool
 // instead of two. The lock's line moves between the cores at most once per block: on
 // builtin:lab at 2 threads, block 10, the two visits made CPU per task 11 % higher than
 // at 1 thread (1 % at block 100, with ten times fewer visits).
-#include "core/parallel/timed_lock.h"
+#include "core/parallel/spin_mutex.h"
 #include "schedulers/chunk_stack.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
@@ -61,6 +73,7 @@ class BlockedScheduler final : public IScheduler {
  public:
   explicit BlockedScheduler(const SchedulerConfig& config)
       : block_size_(static_cast<std::size_t>(config.block_size)),
+        threads_(std::max(config.threads, 1)),
         order_(config.pool_order),
         stacks_(static_cast<std::size_t>(std::max(config.threads, 1))) {}
 
@@ -119,6 +132,7 @@ class BlockedScheduler final : public IScheduler {
 
   // Under mutex_: O(1), moves the buffer in and a recycled one out.
   void push_locked(int worker, std::vector<Task>& spare) {
+    held_ += spare.size();
     stacks_[slot(worker)].push(spare);
     ++counters_.submits;
   }
@@ -127,7 +141,8 @@ class BlockedScheduler final : public IScheduler {
   // `may_steal`) from the oldest chunk of the next non-empty one.
   std::size_t take_locked(int worker, std::span<Task> out, bool may_steal,
                           std::vector<Task>& discard) {
-    const std::size_t want = std::min(out.size(), block_size_);
+    const std::size_t block = block_size_ > 0 ? block_size_ : guided_block(held_, threads_);
+    const std::size_t want = std::min(out.size(), block);
     const std::size_t w = slot(worker);
     std::size_t n = stacks_[w].pop(out, want, discard);
     for (std::size_t k = 1; may_steal && n == 0 && k < stacks_.size(); ++k) {
@@ -136,6 +151,7 @@ class BlockedScheduler final : public IScheduler {
       n = other.pop_oldest(out, want, discard);
       counters_.steals += n;
     }
+    held_ -= n;
     if (n > 0)
       ++counters_.takes;
     else
@@ -144,16 +160,20 @@ class BlockedScheduler final : public IScheduler {
   }
 
   // counters_ is only written under mutex_, so the wait can be added to it.
-  std::unique_lock<std::mutex> acquire() { return timed_lock(mutex_, counters_.lock_wait_s); }
+  std::unique_lock<SpinMutex> acquire() { return timed_lock(mutex_, counters_.lock_wait_s); }
   [[nodiscard]] std::size_t slot(int worker) const {
     return static_cast<std::size_t>(worker) % stacks_.size();
   }
 
-  const std::size_t block_size_;
+  const std::size_t block_size_;  // 0: guided
+  const int threads_;
   const PoolOrder order_;
-  mutable std::mutex mutex_;
-  std::vector<ChunkStack> stacks_;  // one per refiner, guarded by mutex_
-  SchedulerCounters counters_;      // guarded by mutex_
+  alignas(64) mutable SpinMutex mutex_;
+  // Guarded by mutex_, on lines of their own (the lock's line is written by every
+  // acquisition and release; these only by the holder).
+  alignas(64) std::vector<ChunkStack> stacks_;  // one per refiner
+  std::size_t held_ = 0;                        // tasks in all stacks
+  SchedulerCounters counters_;
 };
 
 const bool registered =

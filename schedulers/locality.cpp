@@ -7,7 +7,7 @@
 //
 // | parameter   | type      | default | meaning                                           |
 // |-------------|-----------|---------|---------------------------------------------------|
-// | block_size  | int       | 1       | at most this many tasks per take()                |
+// | block_size  | int       | 0       | at most this many tasks per take(); 0: guided     |
 // | numa_nodes  | int       | 1       | pools (SchedulerConfig::numa_nodes)               |
 // | worker_node | int list  | all 0   | the node each refiner runs on (from the pin plan) |
 // | pool_order  | enum      | submitted | batch order inside each pool (pool_order.h)     |
@@ -17,11 +17,14 @@
 // under that node's lock (O(1)); a take copies out at most one block. Order inside a
 // pool is `stack`'s (depth-first). With one node it is `blocked` with one more
 // indirection. Tasks a refiner takes from another node's pool count as `steals`.
+// With block_size 0 a take hands out guided_block(tasks in the pool, refiners) tasks
+// (scheduler.h). Each pool's lock is a SpinMutex (core/parallel/spin_mutex.h); the
+// take, submit and steal counts are kept per refiner, on lines of their own.
 //
 // With numa_nodes == 1 the receiver is never dereferenced (the scheduler tests use
 // fake receiver pointers).
 #include "core/hierarchy/element.h"
-#include "core/parallel/timed_lock.h"
+#include "core/parallel/spin_mutex.h"
 #include "schedulers/chunk_stack.h"
 #include "schedulers/pool_order.h"
 #include "schedulers/scheduler.h"
@@ -47,6 +50,8 @@ class LocalityScheduler final : public IScheduler {
  public:
   explicit LocalityScheduler(const SchedulerConfig& config)
       : block_size_(static_cast<std::size_t>(config.block_size)),
+        threads_(std::max(config.threads, 1)),
+        counts_(static_cast<std::size_t>(threads_)),
         nodes_(static_cast<std::size_t>(std::max(config.numa_nodes, 1))),
         pools_(nodes_),
         worker_node_(config.worker_node),
@@ -63,7 +68,7 @@ class LocalityScheduler final : public IScheduler {
     return take_from(worker, out, 1);
   }
 
-  void submit(int /*worker*/, std::span<const Task> tasks) override {
+  void submit(int worker, std::span<const Task> tasks) override {
     if (tasks.empty()) return;
     std::vector<std::vector<Task>>& buf = thread_buffers(nodes_);
     if (nodes_ == 1) {
@@ -81,15 +86,17 @@ class LocalityScheduler final : public IScheduler {
       p.stack.push(buf[i]);  // O(1): moves the buffer, not the tasks
       p.hint.store(p.stack.size(), std::memory_order_relaxed);
     }
-    submits_.fetch_add(1, std::memory_order_relaxed);
+    count(worker).submits.add(1);
   }
 
   [[nodiscard]] SchedulerCounters counters() const override {
     SchedulerCounters c;
-    c.takes = takes_.load();
-    c.empty_takes = empty_takes_.load();
-    c.submits = submits_.load();
-    c.steals = steals_.load();
+    for (const Counts& k : counts_) {
+      c.takes += k.takes.get();
+      c.empty_takes += k.empty_takes.get();
+      c.submits += k.submits.get();
+      c.steals += k.steals.get();
+    }
     for (const Pool& p : pools_) {
       std::lock_guard lock(p.mutex);
       c.lock_wait_s += p.lock_wait_s;
@@ -100,7 +107,6 @@ class LocalityScheduler final : public IScheduler {
 
  private:
   std::size_t take_from(int worker, std::span<Task> out, std::size_t pools) {
-    const std::size_t want = std::min(out.size(), block_size_);
     const std::size_t home = node_of_worker(worker);
     std::vector<Task> discard;  // an oversized emptied buffer, freed after unlocking
     std::size_t n = 0;
@@ -108,16 +114,34 @@ class LocalityScheduler final : public IScheduler {
       Pool& p = pools_[(home + k) % nodes_];
       if (p.hint.load(std::memory_order_relaxed) == 0) continue;  // skip the lock when empty
       std::unique_lock lock = timed_lock(p.mutex, p.lock_wait_s);
-      n = p.stack.pop(out, want, discard);
+      const std::size_t block =
+          block_size_ > 0 ? block_size_ : guided_block(p.stack.size(), threads_);
+      n = p.stack.pop(out, std::min(out.size(), block), discard);
       p.hint.store(p.stack.size(), std::memory_order_relaxed);
-      if (k > 0) steals_.fetch_add(n, std::memory_order_relaxed);
+      if (k > 0) count(worker).steals.add(n);
     }
-    (n > 0 ? takes_ : empty_takes_).fetch_add(1, std::memory_order_relaxed);
+    Counts& c = count(worker);
+    (n > 0 ? c.takes : c.empty_takes).add(1);
     return n;
   }
 
+  // A count written by one refiner (any thread submitting as it: the initial load may
+  // come from outside the team, so the add is atomic), read by counters().
+  class Count {
+   public:
+    void add(std::uint64_t n) { v_.fetch_add(n, std::memory_order_relaxed); }
+    [[nodiscard]] std::uint64_t get() const { return v_.load(std::memory_order_relaxed); }
+
+   private:
+    std::atomic<std::uint64_t> v_{0};
+  };
+  struct alignas(64) Counts {
+    Count takes, empty_takes, submits, steals;
+  };
+  Counts& count(int worker) { return counts_[static_cast<std::size_t>(worker) % counts_.size()]; }
+
   struct alignas(64) Pool {
-    mutable std::mutex mutex;
+    mutable SpinMutex mutex;
     ChunkStack stack;                  // guarded by mutex
     double lock_wait_s = 0;            // guarded by mutex
     std::atomic<std::size_t> hint{0};  // stack.size() as of the last locked operation
@@ -128,12 +152,13 @@ class LocalityScheduler final : public IScheduler {
     return w < worker_node_.size() ? static_cast<std::size_t>(worker_node_[w]) : 0;
   }
 
-  const std::size_t block_size_;
+  const std::size_t block_size_;  // 0: guided
+  const int threads_;
+  std::vector<Counts> counts_;  // per refiner
   const std::size_t nodes_;
   std::vector<Pool> pools_;
   std::vector<int> worker_node_;
   const PoolOrder order_;
-  std::atomic<std::uint64_t> takes_{0}, empty_takes_{0}, submits_{0}, steals_{0};
 };
 
 const bool registered =

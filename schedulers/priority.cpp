@@ -3,7 +3,7 @@
 //
 // | parameter  | type | default | meaning                          |
 // |------------|------|---------|----------------------------------|
-// | block_size | int  | 1       | tasks handed out per take()      |
+// | block_size | int  | 0       | tasks per take(); 0: guided      |
 #include "schedulers/central_pool.h"
 
 #include <queue>

@@ -44,8 +44,8 @@ void check_scheduler_name(const std::string& name) {
 std::unique_ptr<IScheduler> make_scheduler(const std::string& name, const SchedulerConfig& config) {
   check_scheduler_name(name);
   const auto it = registry().find(name);
-  if (config.threads < 1 || config.block_size < 1)
-    throw std::invalid_argument("scheduler needs threads >= 1 and block_size >= 1");
+  if (config.threads < 1 || config.block_size < 0)
+    throw std::invalid_argument("scheduler needs threads >= 1 and block_size >= 0 (0: guided)");
   const PluginParams params("scheduler " + name, it->second.params, config.params);
   auto scheduler = it->second.factory(config, params);
   params.report_unused();

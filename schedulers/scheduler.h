@@ -17,6 +17,7 @@
 #include "core/base/enum_names.h"
 #include "core/base/plugin_params.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -50,9 +51,30 @@ inline constexpr EnumName<PoolOrder> kPoolOrderNames[] = {
 };
 constexpr std::span<const EnumName<PoolOrder>> enum_names(PoolOrder) { return kPoolOrderNames; }
 
+/// Most tasks a take() hands out with the guided block size (block_size 0).
+inline constexpr std::size_t kGuidedMaxBlock = 1024;
+
+/// The guided block size (guided self-scheduling, Polychronopoulos & Kuck 1987): a take
+/// hands out ceil(pool / (2 threads)) tasks, at least 1 and at most kGuidedMaxBlock, where
+/// `pool` is the number of tasks the scheduler holds (for `stealing`, the deque taken
+/// from). While the pool is large, each visit brings enough work (hundreds of cheap
+/// re-evaluations) that the pool's lock is free most of the time at 16 refiners; as it
+/// drains, blocks shrink so that the last tasks still spread over every refiner. The
+/// factor 2 leaves each refiner's take at most half its fair share.
+inline std::size_t guided_block(std::size_t pool, int threads) {
+  const std::size_t share = 2 * static_cast<std::size_t>(threads < 1 ? 1 : threads);
+  return std::clamp<std::size_t>((pool + share - 1) / share, 1, kGuidedMaxBlock);
+}
+
+/// The largest take a scheduler with this block_size makes (the caller's buffer size).
+inline std::size_t max_block(int block_size) {
+  return block_size > 0 ? static_cast<std::size_t>(block_size) : kGuidedMaxBlock;
+}
+
 struct SchedulerConfig {
-  int threads = 1;     ///< number of workers that will call take/submit
-  int block_size = 1;  ///< at most this many tasks per take()
+  int threads = 1;  ///< number of workers that will call take/submit
+  /// At most this many tasks per take(); 0: the guided block size (guided_block).
+  int block_size = 0;
   /// NUMA placement (used by `locality`): nodes the elements may live on, and the
   /// node each worker runs on (empty: every worker on node 0). With numa_nodes > 1
   /// a scheduler may read task.receiver->home_node.

@@ -5,7 +5,8 @@
 // | parameter  | type | default | meaning                                              |
 // |------------|------|---------|------------------------------------------------------|
 // | threads    | int  | 1       | workers; one WsDeque (ws_deque.h) each               |
-// | block_size | int  | 1       | at most this many tasks per take(), popped or stolen |
+// | block_size | int  | 0       | at most this many tasks per take(), popped or stolen;|
+// |            |      |         | 0: guided (half the deque, at most kGuidedMaxBlock)  |
 // | victims    | int  | 0       | its own parameter (scheduler.stealing.victims): other |
 // |            |      |         | workers a thief looks at per steal, 0 = all of them   |
 //
@@ -147,8 +148,15 @@ class StealingScheduler final : public IScheduler {
     const bool mine =
         owner == self || (owner == std::thread::id() &&
                           me.owner.compare_exchange_strong(owner, self, std::memory_order_acq_rel));
-    const std::span<Task> block = out.first(std::min(out.size(), block_size_));
-    std::size_t n = mine ? me.deque.pop(block) : 0;
+    // Guided (block_size 0): the owner pops half its deque, at most kGuidedMaxBlock
+    // (guided_block with one thread's share), leaving the rest to thieves; a thief
+    // takes half the victim's (steal()).
+    const std::size_t own =
+        block_size_ > 0 ? block_size_
+                        : guided_block(static_cast<std::size_t>(me.deque.size_estimate()), 1);
+    const std::span<Task> block =
+        out.first(std::min(out.size(), block_size_ > 0 ? block_size_ : kGuidedMaxBlock));
+    std::size_t n = mine ? me.deque.pop(block.first(std::min(block.size(), own))) : 0;
     if (n == 0) n = take_from_inbox(block);
     if (n == 0 && may_steal) {
       n = steal(worker, me, block);

@@ -120,7 +120,7 @@ TEST_F(Cli, SolveWritesStatsMeshAndImage) {
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_TRUE(j["hrad"]["git_revision"].is_string());
   EXPECT_EQ(j["config"]["iterations"], 1);
-  EXPECT_EQ(j["config"]["scheduler"], "stack");
+  EXPECT_EQ(j["config"]["scheduler"], "blocked");
   EXPECT_EQ(j["scene"]["name"], "cornell");
   EXPECT_GT(j["scene"]["polygons"].get<int>(), 0);
   EXPECT_GE(j["scene"]["emitters"].get<int>(), 1);

@@ -121,10 +121,10 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
   for (const std::string& n : scheduler_names()) declared += scheduler_params(n).size();
   for (const std::string& n : oracle_names()) declared += oracle_params(n).size();
   EXPECT_EQ(names.size(), fields + declared);
-  EXPECT_EQ(selected, oracle_params("bf").size() + scheduler_params("stack").size());
+  EXPECT_EQ(selected, oracle_params("bf").size() + scheduler_params("blocked").size());
   EXPECT_EQ(j.size(), fields + selected);
   EXPECT_EQ(j["oracle.bf.dark_floor"], 0.25);
-  EXPECT_EQ(j["scheduler"], "stack");
+  EXPECT_EQ(j["scheduler"], "blocked");
   EXPECT_EQ(j["iterations"], 4);
   EXPECT_EQ(j["eps"], 1e-4);
 }
@@ -165,7 +165,7 @@ TEST(OptionsIo, PartialJsonLeavesOtherKeysAlone) {
   apply_options_json(o, nlohmann::json::parse(R"({"threads": 3, "eps": 0.5})"), "c.json");
   EXPECT_EQ(o.threads, 3);
   EXPECT_EQ(o.eps, 0.5);
-  EXPECT_EQ(o.scheduler, "stack");
+  EXPECT_EQ(o.scheduler, "blocked");
   EXPECT_EQ(o.iterations, 4);
   apply_options_json(o, nlohmann::json::object(), "empty.json");
   EXPECT_EQ(o.threads, 3);
@@ -267,7 +267,7 @@ TEST(OptionsIo, SetRejectsBadInputNamingIt) {
 TEST(OptionsIo, ValueStringFormatsCurrentValue) {
   SolverOptions o;
   EXPECT_EQ(option_value_string(o, "threads"), "1");
-  EXPECT_EQ(option_value_string(o, "scheduler"), "stack");
+  EXPECT_EQ(option_value_string(o, "scheduler"), "blocked");
   EXPECT_EQ(option_value_string(o, "eps"), "0.0001");
   EXPECT_EQ(option_value_string(o, "locks.pool"), "0");
 }
@@ -291,7 +291,7 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
   };
   const std::pair<const char*, const char*> cases[] = {
       {"threads=0", "threads"},
-      {"block_size=0", "block_size"},
+      {"block_size=-1", "block_size"},
       {"eps=0", "eps"},
       {"eps=-1", "eps"},
       {"iterations=0", "iterations"},

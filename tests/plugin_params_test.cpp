@@ -115,7 +115,7 @@ TEST(PluginParams, OptionKeysAreCheckedAndReachTheOracle) {
   SolverOptions other;
   apply_option_assignment(other, "scheduler.stealing.victims=2");
   const std::string e = error_of([&] { validate_options(other); });
-  EXPECT_TRUE(contains(e, "the scheduler is stack, which does not read it")) << e;
+  EXPECT_TRUE(contains(e, "the scheduler is blocked, which does not read it")) << e;
   EXPECT_THROW(apply_option_assignment(other, "scheduler.stealing.victims=-1"),
                std::invalid_argument);
   EXPECT_THROW(apply_option_assignment(other, "scheduler.stealing.thieves=1"),

@@ -189,10 +189,10 @@ TEST_P(SchedTree, EveryTaskRunsExactlyOnce) {
     if (runs[id].load() != 1) ++wrong;
   EXPECT_EQ(wrong, 0u) << "tasks not run exactly once";
   EXPECT_GE(r.largest_take, 1u);
-  EXPECT_LE(r.largest_take, static_cast<std::size_t>(block_size));  // the driver's buffer
+  EXPECT_LE(r.largest_take, max_block(block_size));  // the driver's buffer
 
   const SchedulerCounters c = s->counters();
-  EXPECT_GE(c.takes * static_cast<std::uint64_t>(block_size), tree.size());
+  EXPECT_GE(c.takes * static_cast<std::uint64_t>(max_block(block_size)), tree.size());
   EXPECT_LE(c.takes, tree.size());
   EXPECT_GE(c.submits, 1u);
   EXPECT_LE(c.steals, tree.size());
@@ -210,7 +210,7 @@ std::vector<TreeParam> all_tree_params() {
   std::vector<TreeParam> p;
   for (const std::string& name : scheduler_names())
     for (int threads : {1, 2, 4, 8})
-      for (int block : {1, 7, 100}) p.emplace_back(name, threads, block);
+      for (int block : {0, 1, 7, 100}) p.emplace_back(name, threads, block);  // 0: guided
   return p;
 }
 
@@ -390,6 +390,72 @@ INSTANTIATE_TEST_SUITE_P(Sched, SchedCap, ::testing::ValuesIn(scheduler_names())
                          [](const ::testing::TestParamInfo<std::string>& info) {
                            return info.param;
                          });
+
+TEST(SchedGuided, BlockIsHalfTheShareBetweenOneAndTheCap) {
+  EXPECT_EQ(guided_block(0, 4), 1u);
+  EXPECT_EQ(guided_block(1, 4), 1u);
+  EXPECT_EQ(guided_block(8, 4), 1u);
+  EXPECT_EQ(guided_block(9, 4), 2u);  // ceil(9 / 8)
+  EXPECT_EQ(guided_block(1000, 2), 250u);
+  EXPECT_EQ(guided_block(1000, 1), 500u);
+  EXPECT_EQ(guided_block(100000, 16), kGuidedMaxBlock);
+  EXPECT_EQ(guided_block(100, 0), 50u);  // threads < 1 counts as one
+  EXPECT_EQ(max_block(0), kGuidedMaxBlock);
+  EXPECT_EQ(max_block(10), 10u);
+}
+
+// With block_size 0 every central pool hands out guided blocks: ceil(held / 2T) of the
+// tasks it holds at each take, so the takes shrink as the pool drains.
+class SchedGuidedPool : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SchedGuidedPool, TakesShrinkWithThePool) {
+  auto s = make_scheduler(GetParam(), SchedulerConfig{2, 0});
+  std::vector<Task> batch;
+  for (std::uint32_t i = 0; i < 1000; ++i) batch.push_back(task_for(i));
+  s->submit(0, batch);
+  std::vector<Task> out(kGuidedMaxBlock);
+  std::vector<std::size_t> sizes;
+  while (const std::size_t n = s->take(0, out)) sizes.push_back(n);
+  std::vector<std::size_t> expected;
+  for (std::size_t held = 1000; held > 0;) {
+    expected.push_back(guided_block(held, 2));
+    held -= expected.back();
+  }
+  EXPECT_EQ(sizes, expected);
+  EXPECT_EQ(sizes.front(), 250u);
+  EXPECT_EQ(sizes.back(), 1u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Sched, SchedGuidedPool,
+                         ::testing::Values("stack", "fifo", "priority", "blocked", "locality"),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           return info.param;
+                         });
+
+TEST(SchedGuidedPool, CappedAtTheGuidedMaximum) {
+  auto s = make_scheduler("blocked", SchedulerConfig{1, 0});
+  std::vector<Task> batch;
+  for (std::uint32_t i = 0; i < 5000; ++i) batch.push_back(task_for(i));
+  s->submit(0, batch);
+  std::vector<Task> out(4096);
+  EXPECT_EQ(s->take(0, out), kGuidedMaxBlock);
+}
+
+// Guided stealing: the owner pops half its deque (newest first), a thief half the rest.
+TEST(SchedStealing, GuidedOwnerPopsHalfThiefStealsHalf) {
+  auto s = make_scheduler("stealing", SchedulerConfig{2, 0});
+  std::vector<Task> out(kGuidedMaxBlock);
+  s->submit(0, std::vector<Task>{task_for(0)});
+  ASSERT_EQ(s->take(0, out), 1u);  // worker 0 owns deque 0
+  std::vector<Task> kids;
+  for (std::uint32_t i = 1; i <= 40; ++i) kids.push_back(task_for(i));
+  s->submit(0, kids);
+  ASSERT_EQ(s->take(0, out), 20u);  // the newest half: 40..21
+  EXPECT_EQ(id_of(out[0]), 40u);
+  ASSERT_EQ(s->take(1, out), 10u);  // the oldest half of the rest: 1..10
+  EXPECT_EQ(id_of(out[0]), 1u);
+  EXPECT_EQ(s->counters().steals, 10u);
+}
 
 TEST(SchedBlocked, TakeNeverExceedsTheCallersBuffer) {
   auto s = make_scheduler("blocked", SchedulerConfig{1, 100});

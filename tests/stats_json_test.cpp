@@ -103,6 +103,10 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"placement_check", Kind::ObjectOrNull},
       {"refine_thread_cpu_s", Kind::Number},
       {"task_cpu_ns", Kind::Number},
+      {"prepare_s", Kind::Number},
+      {"sweeps_s", Kind::Number},
+      {"stage_start_s", Kind::Number},
+      {"stage_end_s", Kind::Number},
   };
   ASSERT_TRUE(j.at("iterations").is_array());
   ASSERT_EQ(j["iterations"].size(), 2u);
@@ -142,7 +146,11 @@ TEST(StatsJson, TotalsHaveTheDocumentedKeysWithTypes) {
       {"elements", Kind::Integer},       {"rays_cast", Kind::Integer},
       {"rays_skipped", Kind::Integer},   {"peak_rss_bytes", Kind::Integer},
       {"iterations_run", Kind::Integer}, {"refine_thread_cpu_s", Kind::Number},
-      {"task_cpu_ns", Kind::Number},
+      {"task_cpu_ns", Kind::Number},     {"propagate_wall_s", Kind::Number},
+      {"prepare_s", Kind::Number},       {"sweeps_s", Kind::Number},
+      {"load_s", Kind::Number},          {"link_compact_s", Kind::Number},
+      {"stage_start_s", Kind::Number},   {"stage_end_s", Kind::Number},
+      {"setup_s", Kind::Number},         {"scene_load_s", Kind::Number},
   };
   for (const auto& [key, kind] : keys) {
     ASSERT_TRUE(t.contains(key)) << key;
@@ -151,6 +159,7 @@ TEST(StatsJson, TotalsHaveTheDocumentedKeysWithTypes) {
   EXPECT_EQ(t.size(), std::size(keys));
   EXPECT_EQ(t["links"], 300);
   EXPECT_DOUBLE_EQ(t["wall_s"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(t["propagate_wall_s"].get<double>(), 0.2);  // the iterations' sum
 }
 
 TEST(StatsJson, WarningsAndEmptyRun) {

@@ -12,7 +12,8 @@
 #        RUNS=7 THREADS=2 tools/speedup-check.sh builtin:lab -- --scheduler stealing
 # Environment: HRAD (default build/hrad), RUNS (default 5), THREADS (P, default 2),
 # OUT (scratch folder, default a fresh one under /tmp, removed at the end).
-# Defaults: --scheduler blocked --block-size 10 unless the options name their own.
+# The solve's own defaults (the `blocked` scheduler, guided blocks) unless the options
+# name their own.
 set -euo pipefail
 H=${HRAD:-build/hrad}
 RUNS=${RUNS:-5}
@@ -26,8 +27,6 @@ trap cleanup EXIT
 PY=${HRAD_PYTHON:-python3}
 
 defaults=()
-case " $* " in *" --scheduler "*) ;; *) defaults+=(--scheduler blocked) ;; esac
-case " $* " in *" --block-size "*) ;; *) defaults+=(--block-size 10) ;; esac
 
 for ((i = 1; i <= RUNS; ++i)); do
   for t in 1 "$P"; do

@@ -7,8 +7,8 @@
 //
 // | key                 | type            | default      | meaning                                 |
 // |---------------------|-----------------|--------------|-----------------------------------------|
-// | scheduler           | string          | "stack"      | refinement task order (scheduler_names) |
-// | block_size          | int             | 10           | tasks a refiner takes per visit         |
+// | scheduler           | string          | "blocked"    | refinement task order (scheduler_names) |
+// | block_size          | int             | 0            | tasks a refiner takes per visit; 0: guided |
 // | threads             | int             | 1            | refiner threads                         |
 // | oracle              | string          | "bf"         | refinement oracle (oracle_names)        |
 // | eps                 | double          | 1e-4         | oracle threshold, of emitted power      |
@@ -56,8 +56,9 @@
 namespace hrad {
 
 struct SolverOptions {
-  std::string scheduler = "stack";
-  int block_size = 10;
+  std::string scheduler = "blocked";
+  /// 0: guided (schedulers/scheduler.h, guided_block); N: at most N tasks per visit.
+  int block_size = 0;
   int threads = 1;
   std::string oracle = "bf";
   double eps = 1e-4;

@@ -51,7 +51,9 @@ const std::vector<Row>& rows() {
   static const std::vector<Row> table = {
       {"scheduler", &S::scheduler, "refinement scheduler (task order), by name", nullptr,
        &scheduler_names},
-      {"block_size", &S::block_size, "tasks a refiner takes (and buffers) per scheduler visit"},
+      {"block_size", &S::block_size,
+       "tasks a refiner takes (and buffers) per scheduler visit; 0: guided (half the pool's "
+       "share per refiner, between 1 and 1024)"},
       {"threads", &S::threads, "refiner threads"},
       {"oracle", &S::oracle, "refinement oracle, by name", nullptr, &oracle_names},
       {"eps", &S::eps, "oracle threshold, relative to the total emitted power"},
@@ -473,7 +475,7 @@ void apply_option_assignment(SolverOptions& o, const std::string& key_eq_value) 
 void validate_options(const SolverOptions& o) {
   const auto str = [](auto v) { return fmt::format("{}", v); };
   check(!o.scheduler.empty(), "scheduler", "\"\"", "a scheduler name");
-  check(o.block_size >= 1, "block_size", str(o.block_size), ">= 1");
+  check(o.block_size >= 0, "block_size", str(o.block_size), ">= 0 (0: guided)");
   check(o.threads >= 1, "threads", str(o.threads), ">= 1");
   check(!o.oracle.empty(), "oracle", "\"\"", "an oracle name");
   check(std::isfinite(o.eps) && o.eps > 0, "eps", str(o.eps), "a finite number > 0");

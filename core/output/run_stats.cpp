@@ -22,6 +22,12 @@ IterationTotals sum_iterations(const std::vector<IterationStats>& iterations) {
     t.refine_cpu_s += it.refine_cpu_s;
     t.refine_thread_cpu_s += it.refine_thread_cpu_s;
     t.propagate_wall_s += it.propagate_wall_s;
+    t.prepare_s += it.prepare_s;
+    t.sweeps_s += it.sweeps_s;
+    t.load_s += it.load_s;
+    t.link_compact_s += it.link_compact_s;
+    t.stage_start_s += it.stage_start_s;
+    t.stage_end_s += it.stage_end_s;
     t.idle_s += it.idle_s;
     for (const auto& [cls, s] : it.lock_wait_s) t.lock_wait_s[cls] += s;
     t.tasks += it.tasks;

@@ -42,7 +42,16 @@ struct IterationStats {
   /// refine_thread_cpu_s per task, in nanoseconds (0 without tasks): the per-task
   /// cost to compare between thread counts.
   double task_cpu_ns = 0;
-  double propagate_wall_s = 0;      ///< wall time of gather + push-pull
+  /// Wall time of the propagation: prepare_s + sweeps_s (and the bookkeeping between).
+  double propagate_wall_s = 0;
+  /// The propagation's preparation: open fractions, push weights and row sums of the
+  /// new link set (rays cast for them included).
+  double prepare_s = 0;
+  double sweeps_s = 0;  ///< the gather and push-pull sweeps
+  /// The refinement stage's serial edges: from the stage's start until its last refiner
+  /// entered its loop (starting the team, solver and progress threads), and from the
+  /// last refiner leaving its loop until the stage returned, less the link compaction.
+  double stage_start_s = 0, stage_end_s = 0;
   std::uint64_t links_created = 0;  ///< links created in this iteration (not re-accepted ones)
   std::uint64_t links = 0;          ///< links alive at the end of the iteration
   std::uint64_t elements = 0;       ///< elements (clusters + surfaces) alive at the end
@@ -94,6 +103,9 @@ struct IterationStats {
 struct IterationTotals {
   double refine_wall_s = 0, refine_cpu_s = 0, refine_thread_cpu_s = 0;
   double propagate_wall_s = 0, idle_s = 0;
+  double prepare_s = 0, sweeps_s = 0;         ///< parts of propagate_wall_s
+  double load_s = 0, link_compact_s = 0;      ///< parts of refine_wall_s
+  double stage_start_s = 0, stage_end_s = 0;  ///< parts of refine_wall_s
   std::map<std::string, double> lock_wait_s;  ///< by lock class
   std::uint64_t tasks = 0, links_created = 0, scheduler_ops = 0, steals = 0;
   std::uint64_t rays_cast = 0, rays_skipped = 0;
@@ -113,6 +125,10 @@ IterationTotals sum_iterations(const std::vector<IterationStats>& iterations);
 /// place) and what only the run knows.
 struct RunTotals : IterationTotals {
   double wall_s = 0;
+  /// Before the iterations (not in wall_s): the solver's setup (topology, ray scene,
+  /// hierarchy, effects), and, when the caller reports it, the scene's loading.
+  double setup_s = 0;
+  double scene_load_s = 0;
   std::uint64_t peak_rss_bytes = 0;
   int iterations_run = 0;  ///< refinement iterations run (fewer than asked when stopped early)
 };

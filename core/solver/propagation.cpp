@@ -15,60 +15,78 @@ namespace hrad {
 
 namespace {
 
-// `elements` is in breadth-first order (parents before children, each level's
-// children appended after it), so every level is a contiguous range; returns the
-// range starts plus the end. Push and pull run level by level, in parallel within
-// a level: an element there only reads its parent (push) or children (pull).
-std::vector<std::size_t> level_starts(const std::vector<Element*>& elements) {
-  std::vector<std::size_t> starts{0};
-  std::size_t begin = 0, end = elements.empty() ? 0 : 1;
-  while (begin < end) {
-    starts.push_back(end);
-    std::size_t next = end;
-    for (std::size_t i = begin; i < end; ++i) next += elements[i]->child_span().size();
-    begin = end;
-    end = std::min(next, elements.size());
-  }
-  return starts;
-}
-
-// Who does what: every level is cut into one contiguous part per thread, by weight
-// (the element's links plus a constant for its push, pull and update), and a thread
-// handles the same elements in every phase of every sweep: its gather, push, pull and
-// update of an element all find the element's lines in its own core's cache. (With a
-// separate work split per phase, most lines moved between the cores at every phase.)
+// Who does what. The hierarchy is cut into subtrees: starting from the root, the
+// heaviest subtree (by weight: its elements' links plus a constant per element for its
+// push, pull and update) is opened, its root moved to the *top* and its children made
+// subtrees, until the heaviest subtree weighs at most 1/kSubtreesPerPart of a part's
+// share (or is a leaf). The subtrees are dealt to the parts, heaviest first, each to the
+// part with the least weight so far, and a part's subtrees are kept in memory order.
+// A sweep is then one parallel region with two barriers whatever the depth of the
+// hierarchy: one thread gathers and pushes the top (a few hundred elements, parents
+// first); each thread then walks its part's subtrees depth first, gathering and pushing
+// an element on the way down and pulling and finishing it on the way up, so an element's
+// lines are touched once per sweep by one core; after a barrier one thread pulls the top,
+// children first. (Level-synchronous sweeps crossed a barrier after every level, down
+// and up: thousands of barriers per run, each waiting for the slowest thread; on a
+// loaded machine a thread that had lost its core held up every level.) A thread handles
+// the same subtrees in every sweep, so they stay in its core's cache.
 struct Partition {
   int parts = 1;
-  std::vector<std::size_t> level;  // level starts, plus the end
-  std::vector<std::size_t> cut;    // level l, part t: cut[l * (parts + 1) + t] ..
-  [[nodiscard]] std::size_t levels() const { return level.size() - 1; }
-  [[nodiscard]] std::size_t begin(std::size_t l, int t) const {
-    return cut[l * static_cast<std::size_t>(parts + 1) + static_cast<std::size_t>(t)];
-  }
-  [[nodiscard]] std::size_t end(std::size_t l, int t) const { return begin(l, t + 1); }
+  std::vector<Element*> top;            // above the cut, parents before children
+  std::vector<Element*> roots;          // subtree roots, part by part
+  std::vector<std::size_t> part_begin;  // part t: roots[part_begin[t] .. part_begin[t + 1])
 };
 
+constexpr double kElementWeight = 4;  // push + pull + update, in links' worth of work
+constexpr int kSubtreesPerPart = 8;
+
+// Also numbers the elements (Element::index = position in `elements`).
 Partition partition(const std::vector<Element*>& elements, int threads) {
-  constexpr double kElementWeight = 4;  // push + pull + update, in links' worth of work
   Partition p;
-  const auto weight = [&](std::size_t i) {
-    return kElementWeight + static_cast<double>(elements[i]->links.size());
-  };
   p.parts = std::max(threads, 1);
-  p.level = level_starts(elements);
-  for (std::size_t l = 0; l < p.levels(); ++l) {
-    const std::size_t b = p.level[l], e = p.level[l + 1];
-    double total = 0;
-    for (std::size_t i = b; i < e; ++i) total += weight(i);
-    p.cut.push_back(b);
-    double acc = 0;
-    std::size_t i = b;
-    for (int t = 1; t < p.parts; ++t) {
-      const double target = total * t / p.parts;
-      while (i < e && acc + weight(i) <= target) acc += weight(i++);
-      p.cut.push_back(i);
+  p.part_begin.assign(static_cast<std::size_t>(p.parts) + 1, 0);
+  if (elements.empty()) return p;
+  for (std::size_t i = 0; i < elements.size(); ++i)
+    elements[i]->index = static_cast<std::uint32_t>(i);
+  std::vector<double> weight(elements.size());  // of the subtree below each element
+  for (std::size_t i = elements.size(); i-- > 0;) {
+    const Element& e = *elements[i];
+    weight[i] = kElementWeight + static_cast<double>(e.links.size());
+    for (const Element& k : e.child_span()) weight[i] += weight[k.index];
+  }
+  const double target = weight[0] / (static_cast<double>(p.parts) * kSubtreesPerPart);
+  const auto lighter = [&](const Element* a, const Element* b) {
+    return weight[a->index] < weight[b->index] ||
+           (weight[a->index] == weight[b->index] && a->index > b->index);
+  };
+  std::vector<Element*> open{elements[0]};  // a max-heap of subtrees by weight
+  while (!open.empty()) {
+    Element* heaviest = open.front();
+    if (weight[heaviest->index] <= target || heaviest->child_span().empty()) break;
+    std::pop_heap(open.begin(), open.end(), lighter);
+    open.pop_back();
+    p.top.push_back(heaviest);  // lighter than its parent: parents come first
+    for (Element& k : heaviest->child_span()) {
+      open.push_back(&k);
+      std::push_heap(open.begin(), open.end(), lighter);
     }
-    p.cut.push_back(e);
+  }
+  // Heaviest first, each to the lightest part so far (ties: the lower part).
+  std::sort(open.begin(), open.end(),
+            [&](const Element* a, const Element* b) { return lighter(b, a); });
+  std::vector<double> load(static_cast<std::size_t>(p.parts), 0.0);
+  std::vector<std::vector<Element*>> parts(static_cast<std::size_t>(p.parts));
+  for (Element* r : open) {
+    const auto t =
+        static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    load[t] += weight[r->index];
+    parts[t].push_back(r);
+  }
+  for (std::size_t t = 0; t < parts.size(); ++t) {
+    std::sort(parts[t].begin(), parts[t].end(),
+              [](const Element* a, const Element* b) { return a->index < b->index; });
+    p.roots.insert(p.roots.end(), parts[t].begin(), parts[t].end());
+    p.part_begin[t + 1] = p.roots.size();
   }
   return p;
 }
@@ -189,39 +207,46 @@ void finish_one(Element& e, SweepChange& c) {
   }
 }
 
-// One pass over the hierarchy in one parallel region: gather (every element, no
-// order), push (levels top-down, a barrier after each), and with `full` also pull
-// (levels bottom-up), each element finished (finish_one, then `stored(e)`) as soon as
-// its pull is done, returning the largest change and radiosity. Nothing reads B or the
-// directional sums after the gather, so they can change during the pull. Each part of
-// the partition is done by one thread throughout; a smaller team than asked for takes
-// several parts each.
+// One pass over the hierarchy in one parallel region (see Partition): gather and push
+// top-down, and with `full` also pull bottom-up, each element finished (finish_one, then
+// `stored(e)`) as soon as its pull is done, returning the largest change and radiosity.
+// `gather` must read nothing that `stored` or finish_one write in the same pass (the
+// sweeper reads last sweep's values and stores into the next's). A smaller team than
+// asked for takes several parts each.
 template <class Gather, class Stored>
-SweepChange run_pass(const std::vector<Element*>& el, const Partition& p, bool cosine, bool full,
-                     const Gather& gather, const Stored& stored) {
-  std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts));
-  const std::size_t levels = p.levels();
+SweepChange run_pass(const Partition& p, bool cosine, bool full, const Gather& gather,
+                     const Stored& stored) {
+  std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts) + 1);  // last: the top
+  const auto descend = [&](auto&& self, Element& e, SweepChange& c) -> void {
+    gather(e);
+    push_one(&e, cosine);
+    for (Element& k : e.child_span()) self(self, k, c);
+    if (!full) return;
+    pull_one(e);
+    finish_one(e, c);
+    stored(e);
+  };
 #pragma omp parallel num_threads(p.parts)
   {
     const int team = omp_get_num_threads(), me = omp_get_thread_num();
-    auto each = [&](std::size_t l, auto&& f) {
-      for (int t = me; t < p.parts; t += team)
-        for (std::size_t i = p.begin(l, t); i < p.end(l, t); ++i) f(*el[i], t);
-    };
-    for (std::size_t l = 0; l < levels; ++l) each(l, [&](Element& e, int) { gather(e); });
-#pragma omp barrier
-    for (std::size_t l = 0; l < levels; ++l) {
-      each(l, [&](Element& e, int) { push_one(&e, cosine); });
-#pragma omp barrier
+#pragma omp single
+    for (Element* e : p.top) {
+      gather(*e);
+      push_one(e, cosine);
+    }
+    for (int t = me; t < p.parts; t += team) {
+      SweepChange& c = per_part[static_cast<std::size_t>(t)];
+      for (std::size_t i = p.part_begin[static_cast<std::size_t>(t)];
+           i < p.part_begin[static_cast<std::size_t>(t) + 1]; ++i)
+        descend(descend, *p.roots[i], c);
     }
     if (full) {
-      for (std::size_t l = levels; l-- > 0;) {
-        each(l, [&](Element& e, int t) {
-          pull_one(e);
-          finish_one(e, per_part[static_cast<std::size_t>(t)]);
-          stored(e);
-        });
 #pragma omp barrier
+#pragma omp single
+      for (auto it = p.top.rbegin(); it != p.top.rend(); ++it) {
+        pull_one(**it);
+        finish_one(**it, per_part.back());
+        stored(**it);
       }
     }
   }
@@ -408,8 +433,10 @@ class GatherMatrix {
   std::size_t slots_ = 0;
 };
 
-// What a propagation keeps from sweep to sweep: the partition and, for isotropic
-// cluster receivers, the gather matrix and its values (one channel in a grey scene).
+// What a propagation keeps from sweep to sweep: the partition, the gather matrix and its
+// values (one channel in a grey scene), twice: a sweep gathers from the last sweep's
+// and stores into the other, since one thread may finish an element while another
+// still gathers from it.
 class Sweeper {
  public:
   Sweeper(const std::vector<Element*>& elements, int threads, ClusterReceiver mode, bool grey)
@@ -439,15 +466,17 @@ class Sweeper {
     }
   }
   template <class V>
-  void init(std::vector<V>& values) {
-    values.resize(matrix_->slots());
-    for (const Element* e : elements_) matrix_->store(*e, values);
+  void init(std::array<std::vector<V>, 2>& values) {
+    for (std::vector<V>& v : values) v.resize(matrix_->slots());
+    for (const Element* e : elements_) matrix_->store(*e, values[0]);
   }
   template <class V>
-  SweepChange pass(std::vector<V>& values) {
+  SweepChange pass(std::array<std::vector<V>, 2>& buffers) {
     const GatherMatrix& m = *matrix_;
-    return run_pass(
-        elements_, parts_, cosine_, true,
+    const std::vector<V>& values = buffers[0];
+    std::vector<V>& next = buffers[1];
+    const SweepChange c = run_pass(
+        parts_, cosine_, true,
         [&](Element& e) {
           if (m.by_axis(e)) {  // a cosine cluster receiver: what arrives along each axis
             for (std::size_t k = 0; k < 6; ++k)
@@ -457,7 +486,9 @@ class Sweeper {
           }
           e.gathered = open_gain(e) * as_rgb(m.gather(e, values));
         },
-        [&](const Element& e) { m.store(e, values); });
+        [&](const Element& e) { m.store(e, next); });
+    std::swap(buffers[0], buffers[1]);  // every slot was stored: it is the sweep's result
+    return c;
   }
 
   const std::vector<Element*>& elements_;
@@ -465,8 +496,8 @@ class Sweeper {
   bool cosine_;
   bool grey_;
   std::optional<GatherMatrix> matrix_;
-  std::vector<Rgb> colour_;
-  std::vector<double> channel0_;
+  std::array<std::vector<Rgb>, 2> colour_;
+  std::array<std::vector<double>, 2> channel0_;
 };
 
 // The largest change of a sweep relative to the largest radiosity.
@@ -480,7 +511,7 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
   prepare_clusters(elements);
   const Partition p = partition(elements, threads);
   run_pass(
-      elements, p, cosine, false, [&](Element& e) { gather_one(e, cosine, value, open_area); },
+      p, cosine, false, [&](Element& e) { gather_one(e, cosine, value, open_area); },
       [](const Element&) {});
 }
 

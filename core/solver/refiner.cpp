@@ -318,6 +318,8 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     total.per_worker.push_back(c);
   }
   total.peak_parallelism = stage.peak_parallelism;
+  total.stage_start_s = stage.start_s;
+  total.stage_end_s = stage.end_s;
   total.over_memory = stage.over_memory;
   total.arena_bytes = stage.bytes_held;
   total.trace = std::move(stage.trace);

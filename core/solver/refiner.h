@@ -54,9 +54,10 @@ struct RefineCounters : StageWorkerCounters {
   std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
   std::uint64_t culled = 0;         ///< pairs that cannot exchange light
   std::uint64_t rays_cast = 0;
-  std::uint64_t rays_skipped = 0;  ///< rays not cast thanks to culling
-  int peak_parallelism = 0;        ///< most refiners busy at once
-  std::uint64_t link_bytes = 0;    ///< bytes in the refiner's link arena after compaction
+  std::uint64_t rays_skipped = 0;             ///< rays not cast thanks to culling
+  int peak_parallelism = 0;                   ///< most refiners busy at once
+  double stage_start_s = 0, stage_end_s = 0;  ///< StageCounters' (the total's only)
+  std::uint64_t link_bytes = 0;  ///< bytes in the refiner's link arena after compaction
   /// Tasks whose receiver's memory (Element::home_node) is on this refiner's node,
   /// and on another node (see set_binding).
   std::uint64_t tasks_local = 0, tasks_remote = 0;

@@ -122,6 +122,7 @@ struct Solver::Impl {
   /// Kept across iterations: with push_visibility = child it holds the children's own
   /// visibilities for the next iteration's update (core/solver/push_weights.h).
   PushWeights push_weights;
+  double setup_s = 0;  ///< the constructor's wall time (set by Solver::Solver)
 
   Impl(const Scene& s, const SolverOptions& o, ProgressFn p)
       : scene(s),
@@ -171,7 +172,9 @@ Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn prog
   // make_scheduler also checks, are validate_options' part).
   check_scheduler_name(options.scheduler);
   check_oracle_name(options.oracle);
+  const auto start = Clock::now();
   impl_ = std::make_unique<Impl>(scene, options, std::move(progress));
+  impl_->setup_s = seconds_since(start);
 }
 
 Solver::~Solver() = default;
@@ -210,6 +213,7 @@ RunStats Solver::run() {
     const RefineCounters rc = m.refine(r, it, is);
     const auto t0 = Clock::now();
     std::vector<Element*> elements = m.prepare_propagation(is);
+    is.prepare_s = seconds_since(t0);
     // Every task was a reloaded link accepted again (no link created, none split): the
     // link set is the previous iteration's, and the next iterations would repeat this
     // one (up to an oracle decision that the radiosity's last digits could flip). So it
@@ -245,6 +249,7 @@ RunStats Solver::run() {
   static_cast<IterationTotals&>(t) = sum_iterations(stats.iterations);
   if (stats.iterations.empty()) t.elements = m.hierarchy.element_count();
   t.peak_rss_bytes = peak_rss_bytes();
+  t.setup_s = m.setup_s;
   return std::move(stats);
 }
 
@@ -314,6 +319,8 @@ RefineCounters Solver::Impl::refine(RunState& r, int it, IterationStats& is) {
   is.peak_parallelism = rc.peak_parallelism;
   is.load_s = rc.load_s + r.reload_s;
   is.link_compact_s = rc.finish_s;  // the stage's finish: link compaction
+  is.stage_start_s = rc.stage_start_s;
+  is.stage_end_s = rc.stage_end_s;
   is.tasks = rc.tasks;
   is.links_created = rc.links_created;
   is.rays_cast = rc.rays_cast;
@@ -393,9 +400,11 @@ void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<E
   };
   if (progress)
     progress(fmt::format("iteration {}/{}: propagate", it, o.iterations), propagate_base);
+  const auto sweeps_start = Clock::now();
   const PropagationResult pr = propagate(
       elements, last ? o.gather_tolerance : std::max(o.gather_tolerance, kIntermediateTolerance),
       r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep);
+  is.sweeps_s = seconds_since(sweeps_start);
   throw_if_interrupted();
   is.gather_sweeps = pr.sweeps;
   is.max_change = pr.last_change;

@@ -58,7 +58,7 @@ using StageProgressFn = std::function<void(const StageProgress&)>;
 
 struct StageConfig {
   int threads = 1;
-  int block_size = 1;
+  int block_size = 1;  ///< the scheduler's (0: guided; the take buffer is max_block's)
   /// > 0: every task is recorded (StageCounters::trace) under this iteration number,
   /// which also goes into the task ids.
   int trace_iteration = 0;
@@ -91,7 +91,9 @@ struct StageWorkerCounters {
   /// CPU time of the worker's thread over the whole stage (its own clock,
   /// core/base/clock.h), which stops while the thread waits for a core.
   double cpu_s = 0;
-  double finish_s = 0;         ///< in the body's finish()
+  double finish_s = 0;  ///< in the body's finish()
+  /// When the worker entered and left its loop, in seconds from the stage's start.
+  double loop_start_s = 0, loop_end_s = 0;
   std::uint64_t takes = 0;     ///< takes that returned tasks
   std::uint64_t submits = 0;   ///< submits (of children, and of initial chunks)
   const char* bound = "none";  ///< what bind_thread said (core/parallel/pin_plan.h)
@@ -101,6 +103,10 @@ struct StageWorkerCounters {
 struct StageCounters {
   std::vector<StageWorkerCounters> per_worker;
   int peak_parallelism = 0;  ///< most workers busy at once
+  /// The stage's serial edges: from its start until the last worker entered its loop
+  /// (the team, solver and progress threads starting), and from the last worker
+  /// leaving its loop until run_stage returns, less the longest finish() (the body's).
+  double start_s = 0, end_s = 0;
   /// The stage stopped because the workers' bytes_held() passed StageConfig::max_bytes
   /// (it is then unfinished); `bytes_held` is what they held when that was seen (the
   /// sum of their last reports when a limit was set).
@@ -217,8 +223,8 @@ class Worker {
         trace_(trace),
         next_id_((static_cast<std::uint64_t>(id + 1) << 48) |
                  (static_cast<std::uint64_t>(sh.config.trace_iteration) << 40)),
-        block_(static_cast<std::size_t>(sh.config.block_size)) {
-    out_.reserve(static_cast<std::size_t>(cfg_.block_size) * 8);
+        block_(max_block(sh.config.block_size)) {
+    out_.reserve(std::min<std::size_t>(block_.size() * 8, 8192));
   }
 
   void run() {
@@ -236,6 +242,8 @@ class Worker {
     idle_since_ = loop_start;
     loop();
     const auto loop_end = Clock::now();
+    c_.loop_start_s = seconds_between(sh_.start(), loop_start);
+    c_.loop_end_s = seconds_between(sh_.start(), loop_end);
     body_.end_loop(id_);
     if (idle_) c_.idle_s += seconds_between(idle_since_, loop_end);
     // Busy: the loop less its idle and loading time (two clock reads per stage; a pair
@@ -399,6 +407,15 @@ StageCounters run_stage(IScheduler& scheduler, std::span<Task> initial, const St
           .run();
     }
     shared.join(total);
+    const double stage_s = seconds_since(shared.start());
+    double last_in = 0, last_out = 0, finish = 0;
+    for (const StageWorkerCounters& w : total.per_worker) {
+      last_in = std::max(last_in, w.loop_start_s);
+      last_out = std::max(last_out, w.loop_end_s);
+      finish = std::max(finish, w.finish_s);
+    }
+    total.start_s = last_in;
+    total.end_s = std::max(0.0, stage_s - last_out - finish);
   }
   for (const auto& t : traces) total.trace.insert(total.trace.end(), t.begin(), t.end());
   return total;
