@@ -3,7 +3,9 @@
 #include "experiments/harness/experiment_config.h"
 
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include <thread>
 
 #include <filesystem>
 #include <fstream>
@@ -197,6 +199,26 @@ TEST(ExperimentConfig, SetOverrides) {
   EXPECT_NE(error("repetitions=0").find("repetitions"), std::string::npos);
   EXPECT_NE(error("sweep.threads=").find("at least one value"), std::string::npos);
   EXPECT_NE(error("novalue").find("expected key=value"), std::string::npos);
+}
+
+// "threads": "cores" runs 1, 2, 4, ... up to the machine's logical CPUs (and that count).
+TEST(ExperimentConfig, ThreadsUpToTheCores) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<nlohmann::json> expected;
+  for (int t = 1; t < cores; t *= 2) expected.emplace_back(t);
+  expected.emplace_back(cores);
+  ojson j = minimal();
+  j["sweep"] = ojson::parse(R"({"threads": "cores"})");
+  const ExperimentConfig c = parse_experiment_config(j, "cfg.json");
+  ASSERT_EQ(c.sweep.size(), 1u);
+  EXPECT_EQ(c.sweep[0].values, expected);
+  EXPECT_EQ(c.sweep[0].values.back(), cores);
+  ExperimentConfig d = parse_experiment_config(minimal(), "cfg.json");
+  apply_experiment_set(d, "sweep.threads=cores");
+  ASSERT_EQ(d.sweep.size(), 1u);
+  EXPECT_EQ(d.sweep[0].values, expected);
+  j["sweep"] = ojson::parse(R"({"eps": "cores"})");  // only threads knows "cores"
+  EXPECT_NE(error_of(j).find("must be a list of values"), std::string::npos) << error_of(j);
 }
 
 TEST(ExperimentConfig, JsonRoundTrip) {

@@ -366,8 +366,10 @@ void Hierarchy::reset_link_staging(int worker) {
   arenas_[static_cast<std::size_t>(worker)]->staging.reset();
 }
 
-void Hierarchy::release_links(const std::vector<Element*>& elements) {
-  for (Element* e : elements) e->links.clear();
+void Hierarchy::release_links(const std::vector<Element*>& elements, int threads) {
+  const auto n = static_cast<std::ptrdiff_t>(elements.size());
+#pragma omp parallel for num_threads(threads) schedule(static) if (n > 65536)
+  for (std::ptrdiff_t i = 0; i < n; ++i) elements[static_cast<std::size_t>(i)]->links.clear();
   for (const auto& a : arenas_) {
     a->links.reset();
     a->staging.reset();

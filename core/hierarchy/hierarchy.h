@@ -93,7 +93,7 @@ class Hierarchy {
   /// Clears the links of every element in `elements` (which must hold every element
   /// that has links) and hands all link arenas' memory out again from the start.
   /// Call when no refiner runs.
-  void release_links(const std::vector<Element*>& elements);
+  void release_links(const std::vector<Element*>& elements, int threads = 1);
   /// Link bytes (blocks with their headers and free slots, in the link and staging
   /// arenas), total and by NUMA node.
   [[nodiscard]] std::size_t link_bytes() const;

@@ -259,22 +259,33 @@ SweepChange run_pass(const Partition& p, bool cosine, bool full, const Gather& g
 }
 
 // Allocates every cluster's ClusterLight and sums its members' open area by axis
-// direction (children after parents in `elements`: walk backwards).
-void prepare_clusters(const std::vector<Element*>& elements) {
-  for (auto it = elements.rbegin(); it != elements.rend(); ++it) {
-    Element& e = **it;
-    if (!e.is_cluster()) continue;
-    if (!e.light) e.light = std::make_unique<ClusterLight>();
-    std::array<double, 6>& oa = e.light->open_area;
-    oa.fill(0);
-    for (const Element& k : e.child_span()) {
-      if (k.is_cluster()) {
-        for (std::size_t j = 0; j < 6; ++j) oa[j] += k.light->open_area[j];
-      } else {
-        add_by_axis(oa, k.normal, k.area * open_weight(k));
-      }
+// direction, children before parents: each part's subtrees in parallel, then the top.
+void prepare_cluster(Element& e) {
+  if (!e.is_cluster()) return;
+  if (!e.light) e.light = std::make_unique<ClusterLight>();
+  std::array<double, 6>& oa = e.light->open_area;
+  oa.fill(0);
+  for (const Element& k : e.child_span()) {
+    if (k.is_cluster()) {
+      for (std::size_t j = 0; j < 6; ++j) oa[j] += k.light->open_area[j];
+    } else {
+      add_by_axis(oa, k.normal, k.area * open_weight(k));
     }
   }
+}
+
+void prepare_clusters(const Partition& p) {
+  const auto below = [](auto&& self, Element& e) -> void {
+    if (!e.is_cluster()) return;  // no cluster below a surface
+    for (Element& k : e.child_span()) self(self, k);
+    prepare_cluster(e);
+  };
+#pragma omp parallel for num_threads(p.parts) schedule(dynamic, 1)
+  for (int t = 0; t < p.parts; ++t)
+    for (std::size_t i = p.part_begin[static_cast<std::size_t>(t)];
+         i < p.part_begin[static_cast<std::size_t>(t) + 1]; ++i)
+      below(below, *p.roots[i]);
+  for (auto it = p.top.rbegin(); it != p.top.rend(); ++it) prepare_cluster(**it);
 }
 
 template <class V>
@@ -308,14 +319,22 @@ class GatherMatrix {
       : cosine_(cosine), first_row_(elements.size() + 1, 0) {
     const auto n = static_cast<std::ptrdiff_t>(elements.size());
     axis_.assign(elements.size(), 0);
+    // Each element read once in parallel (its line is a cache miss); the prefix sums run
+    // over dense arrays: axis_ holds 1 for a cluster until then.
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      Element& e = *elements[static_cast<std::size_t>(i)];
+      e.index = static_cast<std::uint32_t>(i);
+      axis_[static_cast<std::size_t>(i)] = e.is_cluster() ? 1 : 0;
+      first_row_[static_cast<std::size_t>(i) + 1] = rows_of(e);
+    }
     std::size_t slot = elements.size();
     for (std::size_t i = 0; i < elements.size(); ++i) {
-      elements[i]->index = static_cast<std::uint32_t>(i);
-      if (elements[i]->is_cluster()) {
+      first_row_[i + 1] += first_row_[i];
+      if (axis_[i] != 0) {
         axis_[i] = static_cast<std::uint32_t>(slot);
         slot += 6;
       }
-      first_row_[i + 1] = first_row_[i] + rows_of(*elements[i]);
     }
     slots_ = slot;
     row_.assign(first_row_.back() + 1, 0);
@@ -444,7 +463,7 @@ class Sweeper {
         parts_(partition(elements, threads)),
         cosine_(mode == ClusterReceiver::Cosine),
         grey_(grey) {
-    prepare_clusters(elements);
+    prepare_clusters(parts_);
     matrix_.emplace(elements, threads, cosine_);
     if (grey_) {
       init(channel0_);
@@ -468,7 +487,10 @@ class Sweeper {
   template <class V>
   void init(std::array<std::vector<V>, 2>& values) {
     for (std::vector<V>& v : values) v.resize(matrix_->slots());
-    for (const Element* e : elements_) matrix_->store(*e, values[0]);
+    const auto n = static_cast<std::ptrdiff_t>(elements_.size());
+#pragma omp parallel for num_threads(parts_.parts) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i)
+      matrix_->store(*elements_[static_cast<std::size_t>(i)], values[0]);
   }
   template <class V>
   SweepChange pass(std::array<std::vector<V>, 2>& buffers) {
@@ -508,8 +530,8 @@ double relative(const SweepChange& c) { return c.largest > 0 ? c.change / c.larg
 void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
                      const std::function<Rgb(const Link&)>& value, bool open_area) {
   const bool cosine = mode == ClusterReceiver::Cosine;
-  prepare_clusters(elements);
   const Partition p = partition(elements, threads);
+  prepare_clusters(p);
   run_pass(
       p, cosine, false, [&](Element& e) { gather_one(e, cosine, value, open_area); },
       [](const Element&) {});

@@ -330,10 +330,14 @@ void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& el
                            std::vector<Task>& tasks) {
   // Each element's tasks go to a fixed place (a prefix sum of the link counts), so
   // the list is the same whatever the thread count, and is filled in parallel.
+  // The counts are read in parallel (each element's line is a cache miss), the prefix
+  // sum runs over the dense array.
   const auto n = static_cast<std::ptrdiff_t>(elements.size());
   std::vector<std::size_t> first(elements.size() + 1, 0);
-  for (std::size_t i = 0; i < elements.size(); ++i)
-    first[i + 1] = first[i] + elements[i]->links.size();
+#pragma omp parallel for num_threads(threads) schedule(static) if (n > 65536)
+  for (std::ptrdiff_t i = 0; i < n; ++i)
+    first[static_cast<std::size_t>(i) + 1] = elements[static_cast<std::size_t>(i)]->links.size();
+  for (std::size_t i = 0; i < elements.size(); ++i) first[i + 1] += first[i];
   tasks.resize(first.back());  // only a longer list constructs (serially) its new tail
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1024) if (first.back() > 65536)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
@@ -349,7 +353,7 @@ void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& el
       ++t;
     }
   }
-  hierarchy.release_links(elements);
+  hierarchy.release_links(elements, threads);
 }
 
 }  // namespace hrad

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 namespace hrad::experiment {
 namespace {
@@ -113,6 +114,16 @@ nlohmann::json get_settings(const ojson& j, const std::string& key, const std::s
   return plain(j);
 }
 
+// "threads": "cores" sweeps 1, 2, 4, ... up to this machine's logical CPUs, and that
+// count itself when it is no power of two: the figures run to the machine at hand.
+std::vector<nlohmann::json> threads_to_cores() {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<nlohmann::json> v;
+  for (int t = 1; t < cores; t *= 2) v.emplace_back(t);
+  v.emplace_back(cores);
+  return v;
+}
+
 std::vector<SweepAxis> get_sweep(const ojson& j, const std::string& key,
                                  const std::string& source) {
   if (!j.is_object())
@@ -124,9 +135,14 @@ std::vector<SweepAxis> get_sweep(const ojson& j, const std::string& key,
     if (!info || info->name != item.key())
       fail(source, fmt::format("'{}': unknown option key '{}'; valid keys: {}", key, item.key(),
                                option_key_list()));
+    if (item.key() == "threads" && item.value() == "cores") {
+      axes.push_back(SweepAxis{item.key(), threads_to_cores()});
+      continue;
+    }
     if (!item.value().is_array())
-      fail(source, fmt::format("'{}.{}' must be a list of values, got {}", key, item.key(),
-                               brief_json(item.value())));
+      fail(source, fmt::format("'{}.{}' must be a list of values (or, for threads, \"cores\"), "
+                               "got {}",
+                               key, item.key(), brief_json(item.value())));
     if (item.value().empty())
       fail(source, fmt::format("'{}.{}' is an empty list: a sweep needs at least one value", key,
                                item.key()));
@@ -360,7 +376,9 @@ void apply_experiment_set(ExperimentConfig& config, const std::string& key_eq_va
       throw std::invalid_argument(fmt::format("{}: unknown option key '{}'; valid keys: {}", source,
                                               key.substr(6), option_key_list()));
     SweepAxis axis{info->name, {}};
-    std::stringstream ss(value);
+    const bool to_cores = info->name == "threads" && value == "cores";
+    if (to_cores) axis.values = threads_to_cores();
+    std::stringstream ss(to_cores ? std::string() : value);
     for (std::string v; std::getline(ss, v, ',');) {
       SolverOptions o = base_options(config);
       apply_option_value(o, info->name, v, source);
