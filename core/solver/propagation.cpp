@@ -1,6 +1,7 @@
 #include "core/solver/propagation.h"
 
 #include "core/base/interrupt.h"
+#include "core/parallel/team_barrier.h"
 #include "core/transport/open_fraction.h"
 
 #include <omp.h>
@@ -207,16 +208,37 @@ void finish_one(Element& e, SweepChange& c) {
   }
 }
 
-// One pass over the hierarchy in one parallel region (see Partition): gather and push
-// top-down, and with `full` also pull bottom-up, each element finished (finish_one, then
-// `stored(e)`) as soon as its pull is done, returning the largest change and radiosity.
-// `gather` must read nothing that `stored` or finish_one write in the same pass (the
-// sweeper reads last sweep's values and stores into the next's). A smaller team than
-// asked for takes several parts each.
+// A pass over the hierarchy (see Partition), in three pieces: one thread gathers and
+// pushes the top (top_down); then every thread of the team does its parts' subtrees
+// (subtrees); with a full pass, one thread then pulls and finishes the top (top_up).
+// The team meets at a barrier between the pieces. An element is finished (finish_one,
+// then `stored(e)`) as soon as its pull is done, its largest change and radiosity
+// recorded in per_part[its part] (the top's in per_part.back()). `gather` must read
+// nothing that `stored` or finish_one write in the same pass (the sweeper reads last
+// sweep's values and stores into the next's). A team smaller than the parts takes
+// several parts each.
+template <class Gather>
+void top_down(const Partition& p, bool cosine, const Gather& gather) {
+  for (Element* e : p.top) {
+    gather(*e);
+    push_one(e, cosine);
+  }
+}
+
+template <class Stored>
+void top_up(const Partition& p, const Stored& stored, SweepChange& c) {
+  for (auto it = p.top.rbegin(); it != p.top.rend(); ++it) {
+    pull_one(**it);
+    finish_one(**it, c);
+    stored(**it);
+  }
+}
+
+// The subtrees of this thread's parts: gather and push on the way down, with `full`
+// pull and finish on the way up.
 template <class Gather, class Stored>
-SweepChange run_pass(const Partition& p, bool cosine, bool full, const Gather& gather,
-                     const Stored& stored) {
-  std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts) + 1);  // last: the top
+void subtrees(const Partition& p, bool cosine, bool full, const Gather& gather,
+              const Stored& stored, int me, int team, std::vector<SweepChange>& per_part) {
   const auto descend = [&](auto&& self, Element& e, SweepChange& c) -> void {
     gather(e);
     push_one(&e, cosine);
@@ -226,34 +248,34 @@ SweepChange run_pass(const Partition& p, bool cosine, bool full, const Gather& g
     finish_one(e, c);
     stored(e);
   };
-#pragma omp parallel num_threads(p.parts)
-  {
-    const int team = omp_get_num_threads(), me = omp_get_thread_num();
-#pragma omp single
-    for (Element* e : p.top) {
-      gather(*e);
-      push_one(e, cosine);
-    }
-    for (int t = me; t < p.parts; t += team) {
-      SweepChange& c = per_part[static_cast<std::size_t>(t)];
-      for (std::size_t i = p.part_begin[static_cast<std::size_t>(t)];
-           i < p.part_begin[static_cast<std::size_t>(t) + 1]; ++i)
-        descend(descend, *p.roots[i], c);
-    }
-    if (full) {
-#pragma omp barrier
-#pragma omp single
-      for (auto it = p.top.rbegin(); it != p.top.rend(); ++it) {
-        pull_one(**it);
-        finish_one(**it, per_part.back());
-        stored(**it);
-      }
-    }
+  for (int t = me; t < p.parts; t += team) {
+    SweepChange& c = per_part[static_cast<std::size_t>(t)];
+    for (std::size_t i = p.part_begin[static_cast<std::size_t>(t)];
+         i < p.part_begin[static_cast<std::size_t>(t) + 1]; ++i)
+      descend(descend, *p.roots[i], c);
   }
+}
+
+// Runs body(me, team, barrier) on every thread of one parallel region of up to `threads`
+// threads, with a TeamBarrier for the team OpenMP actually gave.
+template <class Body>
+void in_team(int threads, const Body& body) {
+  std::optional<TeamBarrier> barrier;
+#pragma omp parallel num_threads(threads)
+  {
+#pragma omp single
+    barrier.emplace(omp_get_num_threads());
+    body(omp_get_thread_num(), barrier->count(), *barrier);
+  }
+}
+
+// The largest change and radiosity over the parts; the parts are reset for the next pass.
+SweepChange take_total(std::vector<SweepChange>& per_part) {
   SweepChange total;
-  for (const SweepChange& c : per_part) {
+  for (SweepChange& c : per_part) {
     total.change = std::max(total.change, c.change);
     total.largest = std::max(total.largest, c.largest);
+    c = SweepChange{};
   }
   return total;
 }
@@ -455,7 +477,8 @@ class GatherMatrix {
 // What a propagation keeps from sweep to sweep: the partition, the gather matrix and its
 // values (one channel in a grey scene), twice: a sweep gathers from the last sweep's
 // and stores into the other, since one thread may finish an element while another
-// still gathers from it.
+// still gathers from it. run() does all the sweeps in one parallel region, the team
+// meeting at three TeamBarrier waits per sweep and at no OpenMP barrier.
 class Sweeper {
  public:
   Sweeper(const std::vector<Element*>& elements, int threads, ClusterReceiver mode, bool grey)
@@ -472,8 +495,16 @@ class Sweeper {
     }
   }
 
-  /// One sweep; returns its largest change and largest radiosity.
-  SweepChange sweep() { return grey_ ? pass(channel0_) : pass(colour_); }
+  /// Sweeps until after_sweep(largest change and radiosity of the sweep) returns false;
+  /// after_sweep runs on the calling thread (the team's thread 0) while the others wait.
+  template <class After>
+  void run(const After& after_sweep) {
+    if (grey_) {
+      run_with(channel0_, after_sweep);
+    } else {
+      run_with(colour_, after_sweep);
+    }
+  }
 
  private:
   template <class V>
@@ -492,25 +523,39 @@ class Sweeper {
     for (std::ptrdiff_t i = 0; i < n; ++i)
       matrix_->store(*elements_[static_cast<std::size_t>(i)], values[0]);
   }
-  template <class V>
-  SweepChange pass(std::array<std::vector<V>, 2>& buffers) {
+  template <class V, class After>
+  void run_with(std::array<std::vector<V>, 2>& buffers, const After& after_sweep) {
     const GatherMatrix& m = *matrix_;
-    const std::vector<V>& values = buffers[0];
+    const std::vector<V>& values = buffers[0];  // swapped after each sweep
     std::vector<V>& next = buffers[1];
-    const SweepChange c = run_pass(
-        parts_, cosine_, true,
-        [&](Element& e) {
-          if (m.by_axis(e)) {  // a cosine cluster receiver: what arrives along each axis
-            for (std::size_t k = 0; k < 6; ++k)
-              e.light->arriving[k] = as_rgb(m.gather(e, values, k));
-            e.gathered = Rgb::Zero();
-            return;
-          }
-          e.gathered = open_gain(e) * as_rgb(m.gather(e, values));
-        },
-        [&](const Element& e) { m.store(e, next); });
-    std::swap(buffers[0], buffers[1]);  // every slot was stored: it is the sweep's result
-    return c;
+    const auto gather = [&](Element& e) {
+      if (m.by_axis(e)) {  // a cosine cluster receiver: what arrives along each axis
+        for (std::size_t k = 0; k < 6; ++k) e.light->arriving[k] = as_rgb(m.gather(e, values, k));
+        e.gathered = Rgb::Zero();
+        return;
+      }
+      e.gathered = open_gain(e) * as_rgb(m.gather(e, values));
+    };
+    const auto store = [&](const Element& e) { m.store(e, next); };
+    std::vector<SweepChange> per_part(static_cast<std::size_t>(parts_.parts) + 1);
+    bool more = true;  // written by thread 0 between barriers
+    in_team(parts_.parts, [&](int me, int team, TeamBarrier& barrier) {
+      // Two barriers a sweep: thread 0 ends one sweep (the top's pull, the bookkeeping)
+      // and starts the next (the top's push) between the same two.
+      if (me == 0) top_down(parts_, cosine_, gather);
+      barrier.wait();
+      while (more) {
+        subtrees(parts_, cosine_, true, gather, store, me, team, per_part);
+        barrier.wait();
+        if (me == 0) {
+          top_up(parts_, store, per_part.back());
+          std::swap(buffers[0], buffers[1]);  // every slot was stored: the sweep's result
+          more = after_sweep(take_total(per_part));
+          if (more) top_down(parts_, cosine_, gather);
+        }
+        barrier.wait();
+      }
+    });
   }
 
   const std::vector<Element*>& elements_;
@@ -532,25 +577,36 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
   const bool cosine = mode == ClusterReceiver::Cosine;
   const Partition p = partition(elements, threads);
   prepare_clusters(p);
-  run_pass(
-      p, cosine, false, [&](Element& e) { gather_one(e, cosine, value, open_area); },
-      [](const Element&) {});
+  std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts) + 1);
+  const auto gather = [&](Element& e) { gather_one(e, cosine, value, open_area); };
+  const auto none = [](const Element&) {};
+  in_team(p.parts, [&](int me, int team, TeamBarrier& barrier) {
+    if (me == 0) top_down(p, cosine, gather);
+    barrier.wait();
+    subtrees(p, cosine, false, gather, none, me, team, per_part);
+  });
 }
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads, ClusterReceiver mode,
                          bool grey) {
-  return relative(Sweeper(elements, threads, mode, grey).sweep());
+  double change = 0;
+  Sweeper(elements, threads, mode, grey).run([&](const SweepChange& s) {
+    change = relative(s);
+    return false;
+  });
+  return change;
 }
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance, int max_sweeps,
                             int threads, ClusterReceiver mode, bool grey,
                             const std::function<void(int sweeps, double change)>& on_sweep) {
   PropagationResult r;
+  if (max_sweeps < 1 || interrupted()) return r;
   Sweeper sweeper(elements, threads, mode, grey);  // links do not change here
   double previous = 0, previous_change = 0;
   int growing = 0;
-  while (r.sweeps < max_sweeps && !interrupted()) {
-    const SweepChange s = sweeper.sweep();
+  // After each sweep: whether to sweep again.
+  sweeper.run([&](const SweepChange& s) {
     const double c = relative(s);
     ++r.sweeps;
     r.last_change = c;
@@ -558,11 +614,11 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
     // Past the largest double the changes are inf - inf: never "no change".
     if (!std::isfinite(s.largest) || !std::isfinite(s.change)) {
       r.diverged = true;
-      break;
+      return false;
     }
     if (c < 1e-13) {  // at round-off: nothing left to converge
       r.converged = true;
-      break;
+      return false;
     }
     // Growth is judged on the change itself: with rho K's spectral radius q >= 1 it
     // grows (or stays) by q every sweep, while the change relative to the radiosity,
@@ -570,18 +626,19 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
     growing = r.sweeps >= 2 && s.change >= previous_change ? growing + 1 : 0;
     if (growing > 50) {
       r.diverged = true;
-      break;
+      return false;
     }
     if (r.sweeps >= 2 && previous > 0) {
       const double q = c / previous;
       if (q < 1 && c * q / (1 - q) < tolerance) {
         r.converged = true;
-        break;
+        return false;
       }
     }
     previous = c;
     previous_change = s.change;
-  }
+    return r.sweeps < max_sweeps && !interrupted();
+  });
   return r;
 }
 
