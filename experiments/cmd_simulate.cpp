@@ -8,7 +8,7 @@
 // |-----------------|-----------|-------------------------|-----------------------------------------|
 // | --procs         | LIST      | 1,2,4,8,16,32,64        | processor counts to simulate            |
 // | --scheduler     | NAME      | the trace's             | one of policy_names() (cost_model.h)    |
-// | --block-size    | N         | the trace's             | tasks per take                          |
+// | --block-size    | N         | the trace's             | tasks per take (0: guided)              |
 // | --costs         | FILE.json | per-scheduler defaults  | cost model fields (cost_model.h)        |
 // | --take-ns       | X         | default                 | take_op_ns: lock held per take          |
 // | --submit-ns     | X         | default                 | submit_op_ns: lock held per submit      |
@@ -19,13 +19,18 @@
 // | --slowdown      | X         | 1                       | task duration factor at >= 2 processors |
 // | --calibrate     | TRACE2    | none                    | slowdown = work(TRACE2) / work(TRACE)   |
 // | --max-task-ns   | X         | none                    | cut longer task durations to X          |
+// | --scale         | X         | 1                       | trace times × X (another machine's)     |
 // | --measured      | STATS     | none (repeatable)       | stats.json of real runs to compare with |
 // | --out           | FILE.csv  | none                    | write the rows as CSV (atomically)      |
 // | --quiet         |           | off                     | no progress line                        |
+// | --calibrate-locks | LOCK    | none                    | measure LOCK's hand-offs (no TRACE)     |
+// | --lock-threads  | N         | the hardware's          | --calibrate-locks at 2 .. N threads     |
+// | --lock-work-ns  | X         | 200                     | private work between two acquisitions   |
 #include "core/base/atomic_file.h"
 #include "core/base/progress.h"
 #include "core/parallel/trace.h"
 #include "experiments/commands.h"
+#include "experiments/sim/lock_calibration.h"
 #include "experiments/sim/simulator.h"
 
 #include <fmt/format.h>
@@ -39,6 +44,7 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 namespace hrad::cli {
 namespace {
@@ -49,13 +55,39 @@ struct SimulateArgs {
   std::string trace;
   std::string procs = "1,2,4,8,16,32,64";
   std::string scheduler;
-  int block_size = 0;  ///< 0: the trace's
+  std::optional<int> block_size;  ///< none: the trace's
+  double scale = 1;
   std::string costs, overheads = "typical", calibrate, out;
   std::optional<double> take_ns, submit_ns, steal_ns, block_ns, task_ns, slowdown;
   std::optional<std::uint32_t> max_task_ns;
   std::vector<std::string> measured;
   bool quiet = false;
+  std::string calibrate_locks;
+  int lock_threads = 0;
+  double lock_work_ns = 200;
 };
+
+// --calibrate-locks: the hand-off costs of one lock on this machine (lock_calibration.h),
+// a table per thread count and the fit as a --costs JSON object.
+int run_calibrate_locks(const SimulateArgs& a) {
+  const int top =
+      a.lock_threads > 0 ? a.lock_threads : static_cast<int>(std::thread::hardware_concurrency());
+  const std::vector<HandoffSample> samples =
+      calibrate_locks(a.calibrate_locks, std::max(top, 2), 0.3, a.lock_work_ns);
+  fmt::print("lock '{}', {} ns of private work between acquisitions\n", a.calibrate_locks,
+             a.lock_work_ns);
+  fmt::print("{:>7}  {:>11}  {:>13}  {:>12}  {:>12}\n", "threads", "handoff ns", "holder changes",
+             "ns/acquire", "acquisitions");
+  for (const HandoffSample& s : samples)
+    fmt::print("{:>7}  {:>11.1f}  {:>13.1f}%  {:>12.1f}  {:>12}\n", s.threads, s.handoff_ns,
+               100 * s.change_share, s.ns_per_acquire, s.acquisitions);
+  const HandoffFit f = fit_handoffs(samples);
+  if (samples.size() < 2)
+    fmt::print("(one thread count only: handoff_waiter_ns needs 3 or more cores)\n");
+  fmt::print("{{\"handoff_ns\": {:.1f}, \"handoff_waiter_ns\": {:.1f}}}\n", f.handoff_ns,
+             f.handoff_waiter_ns);
+  return 0;
+}
 
 std::vector<int> parse_procs(const std::string& text) {
   std::vector<int> procs;
@@ -141,9 +173,11 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
           "{} (the trace's scheduler): {}; --scheduler picks a simulated one", a.trace, e.what()));
     }
   }();
-  const int block_size = a.block_size > 0 ? a.block_size : h.value("block_size", 1);
-  if (block_size < 1)
-    throw std::runtime_error(fmt::format("--block-size must be >= 1, not {}", block_size));
+  const int block_size = a.block_size ? *a.block_size : h.value("block_size", 1);
+  if (block_size < 0)
+    throw std::runtime_error(
+        fmt::format("--block-size must be >= 1 (or 0: guided), not {}", block_size));
+  if (!(a.scale > 0)) throw std::runtime_error(fmt::format("--scale must be > 0, not {}", a.scale));
   const int trace_threads = h.value("threads", 0);
   const std::string scene = h.value("scene", std::string());
 
@@ -161,6 +195,18 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
     }
     fmt::print("--max-task-ns {}: cut {} task(s) by {:.6f} s in all\n", *a.max_task_ns, cut,
                cut_ns * 1e-9);
+  }
+  if (a.scale != 1) {
+    // Another machine's speed: every recorded time (durations, starts, so the gaps and
+    // start_ns too) × scale, a duration capped below the block bit.
+    for (TraceRecord& r : records) {
+      const std::uint32_t bit = r.duration_ns & TraceRecord::kBlockStart;
+      const double d = static_cast<double>(r.duration_ns & ~TraceRecord::kBlockStart) * a.scale;
+      r.duration_ns = bit | static_cast<std::uint32_t>(
+                                std::min(std::round(d), double{TraceRecord::kBlockStart - 1}));
+      r.start_ns =
+          static_cast<std::uint64_t>(std::round(static_cast<double>(r.start_ns) * a.scale));
+    }
   }
   const TaskGraph graph = build_task_graph(records, a.trace);
   // Costs: the microbenchmark defaults < the trace's gaps (--overheads) < --costs FILE
@@ -348,8 +394,9 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
       "simulate",
       "Replay a task trace (hrad solve --set trace=FILE) as a discrete-event simulation on "
       "more processors and predict refinement times and speed-ups.");
-  sub->add_option("TRACE", args->trace, "trace file written by hrad solve --set trace=FILE")
-      ->required();
+  sub->add_option("TRACE", args->trace,
+                  "trace file written by hrad solve --set trace=FILE (required but with "
+                  "--calibrate-locks)");
   sub->add_option("--procs", args->procs, "comma-separated processor counts")
       ->capture_default_str();
   const std::vector<std::string> unmodelled = unmodelled_schedulers();
@@ -359,7 +406,12 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                   fmt::format("policy to replay: {} (priority is replayed in fifo order; not "
                               "modelled: {}) (default: the trace's)",
                               fmt::join(policy_names(), ", "), not_modelled));
-  sub->add_option("--block-size", args->block_size, "tasks per take (default: the trace's)");
+  sub->add_option("--block-size", args->block_size,
+                  "tasks per take, 0: guided (default: the trace's)");
+  sub->add_option("--scale", args->scale,
+                  "every time in the trace x this (task durations of another machine: its "
+                  "1-thread refinement time / this one's)")
+      ->capture_default_str();
   sub->add_option("--costs", args->costs,
                   "JSON object of cost model fields (experiments/sim/cost_model.h)");
   sub->add_option("--take-ns", args->take_ns, "central lock held per take, ns");
@@ -385,9 +437,23 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                   "stats.json of a real run to compare with (repeatable)");
   sub->add_option("--out", args->out, "write the rows as CSV");
   sub->add_flag("--quiet", args->quiet, "no progress line");
+  sub->add_option("--calibrate-locks", args->calibrate_locks,
+                  fmt::format("measure the hand-off costs of a lock ({}) at 2 .. --lock-threads "
+                              "threads and print them as a --costs object (no TRACE)",
+                              fmt::join(calibration_lock_names(), ", ")));
+  sub->add_option("--lock-threads", args->lock_threads,
+                  "--calibrate-locks: most threads (default: the hardware's)");
+  sub->add_option("--lock-work-ns", args->lock_work_ns,
+                  "--calibrate-locks: private work between two acquisitions, ns")
+      ->capture_default_str();
   sub->callback([args, &ctx] {
     try {
-      ctx.status = run_simulate(*args, ctx.argv);
+      if (!args->calibrate_locks.empty())
+        ctx.status = run_calibrate_locks(*args);
+      else if (args->trace.empty())
+        throw std::runtime_error("simulate: TRACE is required (or --calibrate-locks LOCK)");
+      else
+        ctx.status = run_simulate(*args, ctx.argv);
     } catch (const std::exception& e) {
       print_error(e.what());
       ctx.status = 1;

@@ -44,6 +44,9 @@ const std::pair<const char*, double CostModel::*> kFields[] = {
     {"task_ns", &CostModel::task_ns},
     {"start_ns", &CostModel::start_ns},
     {"slowdown", &CostModel::slowdown},
+    {"slowdown_per_proc", &CostModel::slowdown_per_proc},
+    {"handoff_ns", &CostModel::handoff_ns},
+    {"handoff_waiter_ns", &CostModel::handoff_waiter_ns},
 };
 
 }  // namespace
@@ -95,7 +98,14 @@ CostModel default_costs(Policy policy) {
   // At B = 1 the benchmark measures about 110 ns per task, twice this fit's 57 ns.
   // Steals are not in the benchmark: steal_op_ns 100 (a scan touching a remote deque) and
   // steal_task_ns 20 (one CAS on a remote cache line) are assumptions.
+  // Central lock hand-offs: the 16-core machine's std::mutex taken through timed_lock
+  // (costs-16core-44e96be.json, docs/simulate.md); `hrad simulate --calibrate-locks`
+  // measures another machine's or lock's.
   CostModel c;
+  if (policy != Policy::kStealing) {
+    c.handoff_ns = 414;
+    c.handoff_waiter_ns = 138;
+  }
   switch (policy) {
     case Policy::kStack:
       c.take_op_ns = c.submit_op_ns = 25.5;

@@ -16,13 +16,27 @@
 // | task_ns        | per task, outside its recorded duration (loop bookkeeping)              |
 // | start_ns       | per iteration, before the first take (starting the refiner threads)     |
 // | slowdown       | task durations are multiplied by this when 2 or more processors run     |
+// | slowdown_per_proc | and by 1 + this × (P − 1) at P processors (shared caches, memory)    |
+// | handoff_ns     | central lock passes to another processor than its last holder: the      |
+// |                | lock's line and the lines it guards move (held longer when uncontended; |
+// |                | the lock is idle this long between release and grant when contended)    |
+// | handoff_waiter_ns | a contended hand-off is longer by this per further waiter: each     |
+// |                | spinner's CAS takes the lock's line once before the next holder gets it |
 //
 // Contention: the central lock (blocked's per-processor stacks are under it too) has one
 // holder at a time; each stealing deque is a resource of its own (owner operations and
 // steals on it are serialised, different deques proceed in parallel). Waiting is first
-// come, first served.
+// come, first served. Only the central lock pays hand-offs: a processor that finds it
+// held waits for the release plus handoff_ns + handoff_waiter_ns × (w − 1), w = the
+// processors waiting when it passes (estimated by those queued ahead when it asked, at
+// least 1), so a saturated lock at T processors (T − 1 waiting at each release) passes
+// once per hold + handoff_ns + (T − 2) × handoff_waiter_ns: a convoy. One that finds the
+// lock free but last held by another processor holds it handoff_ns longer.
+// `hrad simulate --calibrate-locks` measures both on the machine at hand.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -57,11 +71,30 @@ struct CostModel {
   double task_ns = 0;
   double start_ns = 0;
   double slowdown = 1;
+  double slowdown_per_proc = 0;
+  double handoff_ns = 0;
+  double handoff_waiter_ns = 0;
 };
+
+/// Guided self-scheduling (Polychronopoulos & Kuck 1987), block size 0: a take from a
+/// central pool holding `pool` tasks in all (every per-processor stack together) hands
+/// out min(1024, max(1, ceil(pool / (2 threads)))). A copy of the scheduler's
+/// guided_block (schedulers/scheduler.h) until that lands; simulate_test pins the formula.
+inline std::size_t guided_block(std::size_t pool, int threads) {
+  const std::size_t twice = 2 * static_cast<std::size_t>(threads < 1 ? 1 : threads);
+  return std::min<std::size_t>(1024, std::max<std::size_t>(1, (pool + twice - 1) / twice));
+}
+
+/// Guided halving for `stealing`, block size 0: the owner pops, or a thief takes, up to
+/// min(1024, ceil(n / 2)) of the n tasks on a deque (at least 1).
+inline std::size_t guided_half(std::size_t n) {
+  return std::min<std::size_t>(1024, std::max<std::size_t>(1, (n + 1) / 2));
+}
 
 /// Defaults from the scheduler microbenchmark on the development VM (the fit is in
 /// cost_model.cpp): uncontended costs split into a per-operation and a per-task part.
-/// block_ns is 0 here (`hrad simulate` estimates it from the trace); slowdown is 1.
+/// block_ns is 0 here (`hrad simulate` estimates it from the trace); slowdown is 1;
+/// the central lock's hand-offs are the 16-core machine's (costs-16core-44e96be.json).
 CostModel default_costs(Policy policy);
 
 /// Overrides fields of `costs` from a JSON object whose keys are the field names

@@ -14,6 +14,8 @@ namespace {
 /// A lock or a deque: one holder at a time, granted in request order.
 struct Resource {
   double free_at = 0;
+  int last = -1;              ///< the processor granted last (hand-offs)
+  std::deque<double> grants;  ///< grant times not yet reached: who waits (hand-offs)
 };
 
 struct Proc {
@@ -48,7 +50,8 @@ class IterationReplay {
         out_(out),
         on_tasks_(on_tasks),
         block_(static_cast<std::size_t>(c.block_size)),
-        slow_(c.procs >= 2 ? c.costs.slowdown : 1.0),
+        slow_(c.procs >= 2 ? c.costs.slowdown * (1 + c.costs.slowdown_per_proc * (c.procs - 1))
+                           : 1.0),
         procs_(static_cast<std::size_t>(c.procs)),
         deques_(is_central(c.policy) ? 0 : procs_.size()),
         deque_locks_(c.policy == Policy::kStealing ? procs_.size() : 0),
@@ -88,9 +91,26 @@ class IterationReplay {
  private:
   void schedule(double t, int proc, EventKind kind) { events_.push(Event{t, seq_++, proc, kind}); }
 
-  // Requests `r` at `t` for `held` ns (a processor's time); returns the release time.
-  double acquire(Resource& r, double t, double held) {
-    const double grant = std::max(t, r.free_at);
+  // Processor p requests `r` at `t` for `held` ns (its time); returns the release time.
+  // With `handoffs` (the central lock): a waiter is granted handoff_ns after the release
+  // (+ handoff_waiter_ns per further waiter); a free lock last held by another processor
+  // is held handoff_ns longer (cost_model.h).
+  double acquire(Resource& r, int p, double t, double held, bool handoffs = false) {
+    double grant = std::max(t, r.free_at);
+    if (handoffs) {
+      while (!r.grants.empty() && r.grants.front() <= t) r.grants.pop_front();
+      // Grants still ahead of t are the processors queued before p: at saturation also
+      // about the number waiting when the lock passes to p (the queue turns over), so
+      // w = max(1, queued ahead) and the hand-off costs handoff_waiter_ns × (w − 1) more.
+      if (r.free_at > t)
+        grant +=
+            k_.handoff_ns + k_.handoff_waiter_ns *
+                                static_cast<double>(std::max<std::size_t>(1, r.grants.size()) - 1);
+      else if (r.last >= 0 && r.last != p)
+        held += k_.handoff_ns;
+      r.grants.push_back(grant);
+      r.last = p;
+    }
     out_.lock_wait_ns += grant - t;
     out_.overhead_ns += held;
     r.free_at = grant + held;
@@ -116,29 +136,16 @@ class IterationReplay {
     me.block.clear();
     double ready = t;
     if (is_central(c_.policy)) {
-      const std::size_t n = std::min(block_, central_.size());
-      ready = acquire(lock_, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns);
+      const std::size_t n = std::min(take_size(central_.size()), central_.size());
+      ready = acquire(lock_, p, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns, true);
       pop(central_, n, takes_oldest(c_.policy), me.block);
     } else if (c_.policy == Policy::kBlocked) {
-      // Under the one lock: its own stack's newest, else (once every initial task is
-      // loaded: take_own before) the oldest of the next non-empty stack
-      // (schedulers/blocked.cpp).
-      std::deque<std::uint32_t>* from = &deques_[static_cast<std::size_t>(p)];
-      bool steal = false;
-      const bool may_steal = loaded_ >= g_.roots;
-      for (std::size_t k = 1; may_steal && from->empty() && k < procs_.size(); ++k) {
-        from = &deques_[(static_cast<std::size_t>(p) + k) % procs_.size()];
-        steal = true;
-      }
-      const std::size_t n = std::min(block_, from->size());
-      ready = acquire(lock_, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns);
-      pop(*from, n, steal, me.block);
-      if (steal) out_.steals += n;
+      ready = acquire(lock_, p, t, k_.take_op_ns + take_blocked(p), true);
     } else {
       auto& own = deques_[static_cast<std::size_t>(p)];
       if (!own.empty()) {
-        const std::size_t n = std::min(block_, own.size());
-        ready = acquire(deque_locks_[static_cast<std::size_t>(p)], t,
+        const std::size_t n = block_ > 0 ? std::min(block_, own.size()) : guided_half(own.size());
+        ready = acquire(deque_locks_[static_cast<std::size_t>(p)], p, t,
                         k_.local_op_ns + static_cast<double>(n) * k_.local_task_ns);
         pop(own, n, false, me.block);
       } else if (procs_.size() > 1 && loaded_ >= g_.roots) {  // take_own while loading
@@ -149,8 +156,9 @@ class IterationReplay {
         for (std::size_t i = 0; i < procs_.size(); ++i) {
           const std::size_t v = (start + i) % procs_.size();
           if (v == static_cast<std::size_t>(p) || deques_[v].empty()) continue;
-          const std::size_t n = std::min(block_, (deques_[v].size() + 1) / 2);
-          ready = acquire(deque_locks_[v], t,
+          const std::size_t half = (deques_[v].size() + 1) / 2;
+          const std::size_t n = block_ > 0 ? std::min(block_, half) : guided_half(half * 2);
+          ready = acquire(deque_locks_[v], p, t,
                           k_.steal_op_ns + static_cast<double>(n) * k_.steal_task_ns);
           pop(deques_[v], n, true, me.block);
           out_.steals += n;
@@ -158,9 +166,40 @@ class IterationReplay {
         }
       }
     }
+    run_block(p, ready);
+  }
+
+  // Under the central lock, `blocked` (schedulers/blocked.cpp): moves up to a block from
+  // p's own stack's newest, else (once every initial task is loaded: take_own before)
+  // from the oldest of the next non-empty stack, into p's block; returns the time the
+  // tasks add to the hold.
+  double take_blocked(int p) {
+    Proc& me = procs_[static_cast<std::size_t>(p)];
+    std::deque<std::uint32_t>* from = &deques_[static_cast<std::size_t>(p)];
+    bool steal = false;
+    const bool may_steal = loaded_ >= g_.roots;
+    for (std::size_t k = 1; may_steal && from->empty() && k < procs_.size(); ++k) {
+      from = &deques_[(static_cast<std::size_t>(p) + k) % procs_.size()];
+      steal = true;
+    }
+    const std::size_t n = std::min(take_size(pooled_), from->size());
+    pop(*from, n, steal, me.block);
+    pooled_ -= n;
+    if (steal) out_.steals += n;
+    return static_cast<double>(n) * k_.take_task_ns;
+  }
+
+  // Tasks per take from a central pool holding `pool` (block size 0: guided).
+  [[nodiscard]] std::size_t take_size(std::size_t pool) const {
+    return block_ > 0 ? block_ : guided_block(pool, c_.procs);
+  }
+
+  // p starts the block in me.block at `ready` (empty: goes idle, or loads a chunk).
+  void run_block(int p, double ready) {
+    Proc& me = procs_[static_cast<std::size_t>(p)];
     if (me.block.empty()) {
       ++out_.empty_takes;
-      if (loaded_ < g_.roots) {  // nothing to take: load the next chunk, then take again
+      if (loaded_ < g_.roots) {
         schedule(load(p, ready), p, EventKind::kTake);
         return;
       }
@@ -192,16 +231,40 @@ class IterationReplay {
       return;
     }
     ++out_.submits;
-    double release = t;
     std::deque<std::uint32_t>* q = nullptr;
-    release = submit(p, t, created, q);
-    for (std::uint32_t i : me.block) {
-      const SimTask& task = g_.tasks[i];
-      for (std::uint32_t c = 0; c < task.children; ++c) q->push_back(task.first_child + c);
+    const std::vector<std::uint32_t> block = std::move(me.block);
+    me.block.clear();
+    const auto push_children = [&] {
+      for (std::uint32_t i : block) {
+        const SimTask& task = g_.tasks[i];
+        for (std::uint32_t c = 0; c < task.children; ++c) q->push_back(task.first_child + c);
+      }
+      if (c_.policy == Policy::kBlocked) pooled_ += created;
+    };
+    if (c_.policy == Policy::kBlocked) {
+      // submit_and_take: the children pushed and the next block taken under one
+      // acquisition (the driver's visit between two blocks, schedulers/blocked.cpp).
+      q = &deques_[static_cast<std::size_t>(p)];
+      const double copy = static_cast<double>(created) * k_.copy_task_ns;
+      out_.overhead_ns += copy;
+      push_children();
+      const double held = k_.submit_op_ns + static_cast<double>(created) * k_.submit_task_ns +
+                          k_.take_op_ns + take_blocked(p);
+      const double release = acquire(lock_, p, t + copy, held, true);
+      wake(release, further_blocks(pooled_));
+      run_block(p, release);
+      return;
     }
+    const double release = submit(p, t, created, q);
+    push_children();
     schedule(release, p, EventKind::kTake);  // the submitter takes the next block itself
-    // Wake as many idle processors as further blocks are waiting.
-    wake(release, q->size() > block_ ? (q->size() - block_ + block_ - 1) / block_ : 0);
+    wake(release, further_blocks(q->size()));
+  }
+
+  // Blocks waiting in a pool of `size` beyond the one its submitter takes next.
+  [[nodiscard]] std::size_t further_blocks(std::size_t size) const {
+    const std::size_t b = take_size(size);
+    return size > b ? (size - b + b - 1) / b : 0;
   }
 
   // Processor p submits `n` tasks at t: to the central pool, its blocked stack (both
@@ -211,13 +274,13 @@ class IterationReplay {
     const auto tasks = static_cast<double>(n);
     if (c_.policy == Policy::kStealing) {
       q = &deques_[static_cast<std::size_t>(p)];
-      return acquire(deque_locks_[static_cast<std::size_t>(p)], t,
+      return acquire(deque_locks_[static_cast<std::size_t>(p)], p, t,
                      k_.local_op_ns + tasks * k_.local_task_ns);
     }
     q = c_.policy == Policy::kBlocked ? &deques_[static_cast<std::size_t>(p)] : &central_;
     const double copy = c_.policy == Policy::kBlocked ? tasks * k_.copy_task_ns : 0;
     out_.overhead_ns += copy;
-    return acquire(lock_, t + copy, k_.submit_op_ns + tasks * k_.submit_task_ns);
+    return acquire(lock_, p, t + copy, k_.submit_op_ns + tasks * k_.submit_task_ns, true);
   }
 
   // Processor p loads the next chunk of initial tasks at t and wakes idle processors
@@ -228,8 +291,10 @@ class IterationReplay {
     const double release = submit(p, t, n, q);
     for (std::size_t i = 0; i < n; ++i) q->push_back(static_cast<std::uint32_t>(loaded_ + i));
     loaded_ += n;
+    if (c_.policy == Policy::kBlocked) pooled_ += n;
     ++out_.submits;
-    wake(release, (q->size() + block_ - 1) / block_);
+    const std::size_t pool = c_.policy == Policy::kBlocked ? pooled_ : q->size();
+    wake(release, (pool + take_size(pool) - 1) / take_size(pool));
     return release;
   }
 
@@ -261,6 +326,7 @@ class IterationReplay {
   std::uint64_t seq_ = 0;
   std::size_t done_ = 0;
   std::size_t loaded_ = 0;  ///< initial tasks submitted so far
+  std::size_t pooled_ = 0;  ///< `blocked`: tasks in all its stacks together
   std::vector<std::uint32_t> runs_;
 };
 
@@ -293,8 +359,9 @@ SimResult simulate(const TaskGraph& graph, const SimConfig& config,
                    const std::function<void(double)>& progress) {
   if (config.procs < 1)
     throw std::invalid_argument(fmt::format("procs must be >= 1, not {}", config.procs));
-  if (config.block_size < 1)
-    throw std::invalid_argument(fmt::format("block size must be >= 1, not {}", config.block_size));
+  if (config.block_size < 0)
+    throw std::invalid_argument(
+        fmt::format("block size must be >= 1 (or 0: guided), not {}", config.block_size));
   const double total = static_cast<double>(std::max<std::uint64_t>(1, graph.tasks()));
   std::uint64_t done = 0, reported = 0;
   const std::function<void(std::uint64_t)> on_tasks = [&](std::uint64_t n) {

@@ -1,13 +1,16 @@
 // Discrete-event replay of a recorded refinement (TaskGraph) on `procs` simulated
 // processors under one scheduling policy and a CostModel.
 //
-// Each processor loops as the stage driver (core/stage/run_stage.h) does: take up to block_size tasks, run them
-// (recorded durations × slowdown), spend block_ns, then submit the tasks the block
-// created in one operation; those become available when the submit releases the lock
-// (or the deque). Lock-like resources (the central lock, each stealing deque) are
-// granted first come, first served, one holder at a time; an operation's effect on
-// the queue is applied in grant order, which equals request order, so the queues are
-// always consistent with the simulated clock.
+// Each processor loops as the stage driver (core/stage/run_stage.h) does: take up to
+// block_size tasks (0: guided, cost_model.h's guided_block), run them (recorded
+// durations × the slowdown), spend block_ns, then submit the tasks the block created in
+// one operation; those become available when the submit releases the lock (or the
+// deque). `blocked` submits and takes its next block under one acquisition
+// (IScheduler::submit_and_take); the others submit, then take. Lock-like resources (the
+// central lock, each stealing deque) are granted first come, first served, one holder at
+// a time; an operation's effect on the queue is applied in grant order, which equals
+// request order, so the queues are always consistent with the simulated clock. The
+// central lock also pays hand-offs (cost_model.h: handoff_ns, handoff_waiter_ns).
 //
 // Idle processors do not spin: a submit of k tasks wakes min(idle, ceil((size - B)/B))
 // of them (the submitter takes the next block itself), in the order they went idle; a
@@ -41,7 +44,7 @@ namespace hrad::sim {
 struct SimConfig {
   Policy policy = Policy::kStack;
   int procs = 1;
-  int block_size = 1;
+  int block_size = 1;  ///< 0: guided (guided_block, guided_half in cost_model.h)
   CostModel costs;
   int load_chunk =
       static_cast<int>(kStageLoadChunk);  ///< initial tasks per load (core/stage/run_stage.h)
@@ -68,7 +71,7 @@ struct SimResult {
 };
 
 /// `progress(fraction)` is called now and then (may be empty). Throws
-/// std::invalid_argument for procs < 1 or block_size < 1, std::logic_error if the
+/// std::invalid_argument for procs < 1 or block_size < 0, std::logic_error if the
 /// replay stalls (a bug).
 SimResult simulate(const TaskGraph& graph, const SimConfig& config,
                    const std::function<void(double)>& progress = {});
