@@ -35,7 +35,8 @@ HandoffFit fit_handoffs(const std::vector<HandoffSample>& samples) {
 }
 
 void spin_for_ns(double ns) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::nanoseconds(static_cast<long>(ns));
+  const auto end =
+      std::chrono::steady_clock::now() + std::chrono::nanoseconds(static_cast<long>(ns));
   while (std::chrono::steady_clock::now() < end) cpu_relax();
 }
 

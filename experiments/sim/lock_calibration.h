@@ -45,9 +45,9 @@ class TimedMutex {
 
 struct HandoffSample {
   int threads = 0;
-  double handoff_ns = 0;       ///< mean release -> next holder's guarded writes done
-  double change_share = 0;     ///< acquisitions by another thread than the last holder
-  double ns_per_acquire = 0;   ///< wall time / acquisitions (the lock's cycle)
+  double handoff_ns = 0;      ///< mean release -> next holder's guarded writes done
+  double change_share = 0;    ///< acquisitions by another thread than the last holder
+  double ns_per_acquire = 0;  ///< wall time / acquisitions (the lock's cycle)
   std::uint64_t acquisitions = 0;
 };
 
@@ -121,7 +121,8 @@ HandoffSample measure_handoffs(int threads, double duration_s, double work_ns) {
     sum += x.handoff_ns;
   }
   s.handoff_ns = changes ? sum / static_cast<double>(changes) : 0;
-  s.change_share = s.acquisitions ? static_cast<double>(changes) / static_cast<double>(s.acquisitions) : 0;
+  s.change_share =
+      s.acquisitions ? static_cast<double>(changes) / static_cast<double>(s.acquisitions) : 0;
   s.ns_per_acquire = s.acquisitions ? wall_ns / static_cast<double>(s.acquisitions) : 0;
   return s;
 }
