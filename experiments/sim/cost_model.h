@@ -35,7 +35,8 @@
 // `hrad simulate --calibrate-locks` measures both on the machine at hand.
 #pragma once
 
-#include <algorithm>
+#include "schedulers/scheduler.h"
+
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -76,20 +77,11 @@ struct CostModel {
   double handoff_waiter_ns = 0;
 };
 
-/// Guided self-scheduling (Polychronopoulos & Kuck 1987), block size 0: a take from a
-/// central pool holding `pool` tasks in all (every per-processor stack together) hands
-/// out min(1024, max(1, ceil(pool / (2 threads)))). A copy of the scheduler's
-/// guided_block (schedulers/scheduler.h) until that lands; simulate_test pins the formula.
-inline std::size_t guided_block(std::size_t pool, int threads) {
-  const std::size_t twice = 2 * static_cast<std::size_t>(threads < 1 ? 1 : threads);
-  return std::min<std::size_t>(1024, std::max<std::size_t>(1, (pool + twice - 1) / twice));
-}
-
-/// Guided halving for `stealing`, block size 0: the owner pops, or a thief takes, up to
-/// min(1024, ceil(n / 2)) of the n tasks on a deque (at least 1).
-inline std::size_t guided_half(std::size_t n) {
-  return std::min<std::size_t>(1024, std::max<std::size_t>(1, (n + 1) / 2));
-}
+/// Block size 0 (guided) is the schedulers' own formula, hrad::guided_block in
+/// schedulers/scheduler.h: a central take hands out guided_block(pool, threads) of the
+/// `pool` tasks held in all (blocked: every per-processor stack together); `stealing`'s
+/// owner pops guided_block(deque, 1) and a thief takes half the victim's deque, at most
+/// kGuidedMaxBlock.
 
 /// Defaults from the scheduler microbenchmark on the development VM (the fit is in
 /// cost_model.cpp): uncontended costs split into a per-operation and a per-task part.

@@ -1,10 +1,5 @@
 #include "experiments/sim/lock_calibration.h"
 
-#if __has_include("core/parallel/spin_mutex.h")
-#include "core/parallel/spin_mutex.h"
-#define HRAD_SIM_HAS_SPIN_MUTEX 1
-#endif
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -40,13 +35,7 @@ void spin_for_ns(double ns) {
   while (std::chrono::steady_clock::now() < end) cpu_relax();
 }
 
-std::vector<std::string> calibration_lock_names() {
-#ifdef HRAD_SIM_HAS_SPIN_MUTEX
-  return {"mutex", "spin"};
-#else
-  return {"mutex"};
-#endif
-}
+std::vector<std::string> calibration_lock_names() { return {"mutex", "spin"}; }
 
 std::vector<HandoffSample> calibrate_locks(const std::string& lock, int max_threads,
                                            double duration_s, double work_ns) {
@@ -56,10 +45,8 @@ std::vector<HandoffSample> calibrate_locks(const std::string& lock, int max_thre
   for (int k = 2; k <= top; ++k) {
     if (lock == "mutex") {
       out.push_back(measure_handoffs<TimedMutex>(k, duration_s, work_ns));
-#ifdef HRAD_SIM_HAS_SPIN_MUTEX
     } else if (lock == "spin") {
-      out.push_back(measure_handoffs<SpinMutex>(k, duration_s, work_ns));
-#endif
+      out.push_back(measure_handoffs<TimedSpinMutex>(k, duration_s, work_ns));
     } else {
       throw std::invalid_argument(fmt::format("--calibrate-locks: unknown lock '{}' (known: {})",
                                               lock, fmt::join(calibration_lock_names(), ", ")));

@@ -12,10 +12,10 @@
 // handoff_ns + handoff_waiter_ns × (k − 2), and a least-squares line over k gives both.
 //
 // Generic over the lock: any Lockable (lock, try_lock, unlock). std::mutex is measured
-// the way the schedulers take it (core/parallel/timed_lock.h: kSpinTries try_locks,
-// then a sleeping lock) through TimedMutex.
+// and hrad::SpinMutex are measured the way the schedulers take them (TimedLock below).
 #pragma once
 
+#include "core/parallel/spin_mutex.h"
 #include "core/parallel/timed_lock.h"
 
 #include <atomic>
@@ -28,8 +28,13 @@
 
 namespace hrad::sim {
 
-/// std::mutex taken as timed_lock takes it (spins of try_lock, then lock()).
-class TimedMutex {
+/// A lock taken the way the schedulers take it, through its timed_lock overload:
+/// std::mutex as core/parallel/timed_lock.h does (kSpinTries try_locks, then a sleeping
+/// lock), hrad::SpinMutex as core/parallel/spin_mutex.h does (a try_lock, then the timed
+/// read-only spin and the futex sleep). The wait timing is part of the measured cost, as
+/// it is in the schedulers.
+template <class Mutex>
+class TimedLock {
  public:
   void lock() {
     double wait_s = 0;
@@ -40,8 +45,13 @@ class TimedMutex {
   void unlock() { m_.unlock(); }
 
  private:
-  std::mutex m_;
+  Mutex m_;
 };
+
+/// The central pools' lock before SpinMutex (revision 44e96be and earlier).
+using TimedMutex = TimedLock<std::mutex>;
+/// The central pools' lock since 1f17afa (schedulers/blocked.cpp, central_pool.h).
+using TimedSpinMutex = TimedLock<SpinMutex>;
 
 struct HandoffSample {
   int threads = 0;
@@ -127,8 +137,8 @@ HandoffSample measure_handoffs(int threads, double duration_s, double work_ns) {
   return s;
 }
 
-/// The locks calibrate_locks() knows by name: "mutex" (TimedMutex) and, once
-/// core/parallel/spin_mutex.h exists, "spin" (hrad::SpinMutex).
+/// The locks calibrate_locks() knows by name: "mutex" (TimedMutex) and "spin"
+/// (TimedSpinMutex: hrad::SpinMutex, the schedulers' lock).
 std::vector<std::string> calibration_lock_names();
 
 /// measure_handoffs for threads 2 .. max_threads (capped at the hardware's threads) on

@@ -144,7 +144,8 @@ class IterationReplay {
     } else {
       auto& own = deques_[static_cast<std::size_t>(p)];
       if (!own.empty()) {
-        const std::size_t n = block_ > 0 ? std::min(block_, own.size()) : guided_half(own.size());
+        const std::size_t n =
+            block_ > 0 ? std::min(block_, own.size()) : guided_block(own.size(), 1);
         ready = acquire(deque_locks_[static_cast<std::size_t>(p)], p, t,
                         k_.local_op_ns + static_cast<double>(n) * k_.local_task_ns);
         pop(own, n, false, me.block);
@@ -157,7 +158,7 @@ class IterationReplay {
           const std::size_t v = (start + i) % procs_.size();
           if (v == static_cast<std::size_t>(p) || deques_[v].empty()) continue;
           const std::size_t half = (deques_[v].size() + 1) / 2;
-          const std::size_t n = block_ > 0 ? std::min(block_, half) : guided_half(half * 2);
+          const std::size_t n = std::min(block_ > 0 ? block_ : kGuidedMaxBlock, half);
           ready = acquire(deque_locks_[v], p, t,
                           k_.steal_op_ns + static_cast<double>(n) * k_.steal_task_ns);
           pop(deques_[v], n, true, me.block);

@@ -2,7 +2,7 @@
 // processors under one scheduling policy and a CostModel.
 //
 // Each processor loops as the stage driver (core/stage/run_stage.h) does: take up to
-// block_size tasks (0: guided, cost_model.h's guided_block), run them (recorded
+// block_size tasks (0: guided, guided_block in schedulers/scheduler.h), run them (recorded
 // durations × the slowdown), spend block_ns, then submit the tasks the block created in
 // one operation; those become available when the submit releases the lock (or the
 // deque). `blocked` submits and takes its next block under one acquisition
@@ -44,7 +44,7 @@ namespace hrad::sim {
 struct SimConfig {
   Policy policy = Policy::kStack;
   int procs = 1;
-  int block_size = 1;  ///< 0: guided (guided_block, guided_half in cost_model.h)
+  int block_size = 1;  ///< 0: guided (cost_model.h)
   CostModel costs;
   int load_chunk =
       static_cast<int>(kStageLoadChunk);  ///< initial tasks per load (core/stage/run_stage.h)
