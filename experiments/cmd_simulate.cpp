@@ -20,6 +20,8 @@
 // | --calibrate     | TRACE2    | none                    | slowdown = work(TRACE2) / work(TRACE)   |
 // | --max-task-ns   | X         | none                    | cut longer task durations to X          |
 // | --scale         | X         | 1                       | trace times × X (another machine's)     |
+// | --stage-stats   | STATS     | none                    | the traced run's stats.json: the stage  |
+// |                 |           |                         | outside the task loop (simulator.h)     |
 // | --measured      | STATS     | none (repeatable)       | stats.json of real runs to compare with |
 // | --out           | FILE.csv  | none                    | write the rows as CSV (atomically)      |
 // | --quiet         |           | off                     | no progress line                        |
@@ -61,6 +63,7 @@ struct SimulateArgs {
   std::optional<double> take_ns, submit_ns, steal_ns, block_ns, task_ns, slowdown;
   std::optional<std::uint32_t> max_task_ns;
   std::vector<std::string> measured;
+  std::string stage_stats;
   bool quiet = false;
   std::string calibrate_locks;
   int lock_threads = 0;
@@ -146,6 +149,33 @@ Measured read_measured(const std::string& file) {
   }
 }
 
+// --stage-stats: per iteration, the stage's time outside the task loop in the traced
+// (1-thread) run, ns × scale. Needs the fields stats.json has since 1f17afa.
+std::vector<OutsideLoop> read_outside(const std::string& file, double scale) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file + ": cannot open the stats file");
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (j.at("config").at("threads").get<int>() != 1)
+      throw std::runtime_error(file + ": --stage-stats wants the stats.json of a 1-thread run");
+    std::vector<OutsideLoop> out;
+    for (const auto& it : j.at("iterations")) {
+      OutsideLoop o;
+      o.load_ns = it.at("load_s").get<double>() * 1e9 * scale;
+      o.compact_ns = it.at("link_compact_s").get<double>() * 1e9 * scale;
+      o.edges_ns =
+          (it.at("stage_start_s").get<double>() + it.at("stage_end_s").get<double>()) * 1e9 * scale;
+      out.push_back(o);
+    }
+    return out;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(
+        fmt::format("{}: not an hrad stats.json with the stage's costs (load_s, link_compact_s, "
+                    "stage_start_s, stage_end_s: revision 1f17afa or later) ({})",
+                    file, e.what()));
+  }
+}
+
 std::string share(double part, double whole) {
   return whole > 0 ? fmt::format("{:.1f}%", 100 * part / whole) : "-";
 }
@@ -155,6 +185,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   const std::vector<int> procs = parse_procs(a.procs);
   std::vector<Measured> measured;
   for (const std::string& f : a.measured) measured.push_back(read_measured(f));
+  const std::vector<OutsideLoop> outside =
+      a.stage_stats.empty() ? std::vector<OutsideLoop>{} : read_outside(a.stage_stats, a.scale);
   std::string header;
   std::vector<TraceRecord> records = read_trace(a.trace, &header);
   if (records.empty()) throw std::runtime_error(a.trace + ": the trace has no task");
@@ -209,6 +241,9 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
     }
   }
   const TaskGraph graph = build_task_graph(records, a.trace);
+  if (!outside.empty() && outside.size() != graph.iterations.size())
+    throw std::runtime_error(fmt::format("{} has {} iterations, the trace {}: not the traced run?",
+                                         a.stage_stats, outside.size(), graph.iterations.size()));
   // Costs: the microbenchmark defaults < the trace's gaps (--overheads) < --costs FILE
   // < the flags.
   CostModel costs = default_costs(policy);
@@ -231,6 +266,9 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
           fmt::format("--overheads: '{}' is not 'typical' or 'all'", a.overheads));
     }
   }
+  // With the stage's own figures, its start is in stage_start_s and the first chunk's
+  // load in load_s: the trace's first-task start would count them twice.
+  if (!outside.empty()) costs.start_ns = 0;
   if (!a.costs.empty()) load_costs(a.costs, costs);
   const std::pair<const char*, const std::optional<double>*> flags[] = {
       {"--take-ns", &a.take_ns},
@@ -296,6 +334,7 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
     c.procs = runs[i];
     c.block_size = block_size;
     c.costs = costs;
+    c.outside = outside;
     results[runs[i]] = simulate(graph, c, [&](double f) {
       progress.update(fmt::format("simulate {} procs", runs[i]),
                       (static_cast<double>(i) + f) / static_cast<double>(runs.size()));
@@ -308,24 +347,25 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   std::string table = fmt::format("{:>5}  {:>6}", "procs", "kind");
   for (std::size_t k = 0; k < iters; ++k)
     table += fmt::format("  {:>9}", fmt::format("it{} ms", graph.iterations[k].iteration));
-  table += fmt::format("  {:>10}  {:>7}  {:>9}  {:>6}  {:>7}\n", "total ms", "speedup", "lock wait",
-                       "idle", "error");
+  table += fmt::format("  {:>10}  {:>7}  {:>9}  {:>6}  {:>7}  {:>7}\n", "total ms", "speedup",
+                       "lock wait", "idle", "outside", "error");
   std::ostringstream csv;
   csv << "kind,scheduler,block_size,procs,iteration,time_s,speedup,busy_share,overhead_share,"
-         "lock_wait_share,idle_share,tasks,takes,empty_takes,submits,steals,source,scene\n";
+         "lock_wait_share,idle_share,outside_share,tasks,takes,empty_takes,submits,steals,source,"
+         "scene\n";
   auto csv_row = [&](const char* kind, int p, const std::string& iteration, double time_s,
                      double speedup, const IterationResult* r, const std::string& source) {
     const double whole = r ? r->time_ns * p : 0;
     auto sh = [&](double v) {
       return whole > 0 ? fmt::format("{:.6f}", v / whole) : std::string();
     };
-    csv << fmt::format("{},{},{},{},{},{:.9g},{:.6g},{},{},{},{},{},{},{},{},{},{},{}\n", kind,
-                       scheduler, block_size, p, iteration, time_s, speedup,
-                       r ? sh(r->busy_ns) : "", r ? sh(r->overhead_ns) : "",
-                       r ? sh(r->lock_wait_ns) : "", r ? sh(r->idle_ns) : "",
-                       r ? std::to_string(r->tasks) : "", r ? std::to_string(r->takes) : "",
-                       r ? std::to_string(r->empty_takes) : "", r ? std::to_string(r->submits) : "",
-                       r ? std::to_string(r->steals) : "", source, scene);
+    csv << fmt::format(
+        "{},{},{},{},{},{:.9g},{:.6g},{},{},{},{},{},{},{},{},{},{},{},{}\n", kind, scheduler,
+        block_size, p, iteration, time_s, speedup, r ? sh(r->busy_ns) : "",
+        r ? sh(r->overhead_ns) : "", r ? sh(r->lock_wait_ns) : "", r ? sh(r->idle_ns) : "",
+        r ? sh(r->outside_ns) : "", r ? std::to_string(r->tasks) : "",
+        r ? std::to_string(r->takes) : "", r ? std::to_string(r->empty_takes) : "",
+        r ? std::to_string(r->submits) : "", r ? std::to_string(r->steals) : "", source, scene);
   };
   for (int p : procs) {
     const SimResult& r = results.at(p);
@@ -333,9 +373,9 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
     table += fmt::format("{:>5}  {:>6}", p, "sim");
     for (const IterationResult& it : r.iterations)
       table += fmt::format("  {:>9.2f}", it.time_ns * 1e-6);
-    table += fmt::format("  {:>10.2f}  {:>7.2f}  {:>9}  {:>6}  {:>7}\n", t.time_ns * 1e-6,
+    table += fmt::format("  {:>10.2f}  {:>7.2f}  {:>9}  {:>6}  {:>7}  {:>7}\n", t.time_ns * 1e-6,
                          base.time_ns() / t.time_ns, share(t.lock_wait_ns, t.time_ns * p),
-                         share(t.idle_ns, t.time_ns * p), "");
+                         share(t.idle_ns, t.time_ns * p), share(t.outside_ns, t.time_ns * p), "");
     for (std::size_t k = 0; k < r.iterations.size(); ++k) {
       const IterationResult& it = r.iterations[k];
       csv_row("simulated", p, std::to_string(it.iteration), it.time_ns * 1e-9,
@@ -352,8 +392,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
         csv_row("measured-trace", p, std::to_string(graph.iterations[k].iteration), s, 0, nullptr,
                 a.trace);
       }
-      table += fmt::format("  {:>10.2f}  {:>7}  {:>9}  {:>6}  {:>+6.1f}%\n", total * 1e3, "", "",
-                           "", 100 * (t.time_ns * 1e-9 - total) / total);
+      table += fmt::format("  {:>10.2f}  {:>7}  {:>9}  {:>6}  {:>7}  {:>+6.1f}%\n", total * 1e3, "",
+                           "", "", "", 100 * (t.time_ns * 1e-9 - total) / total);
       csv_row("measured-trace", p, "all", total, 0, nullptr, a.trace);
     }
     for (const Measured& m : measured) {
@@ -362,8 +402,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
       for (std::size_t k = 0; k < iters; ++k)
         table += k < m.refine_s.size() ? fmt::format("  {:>9.2f}", m.refine_s[k] * 1e3)
                                        : fmt::format("  {:>9}", "-");
-      table += fmt::format("  {:>10.2f}  {:>7}  {:>9}  {:>6}  {:>+6.1f}%\n", m.total_s * 1e3, "",
-                           "", "", 100 * (t.time_ns * 1e-9 - m.total_s) / m.total_s);
+      table += fmt::format("  {:>10.2f}  {:>7}  {:>9}  {:>6}  {:>7}  {:>+6.1f}%\n", m.total_s * 1e3,
+                           "", "", "", "", 100 * (t.time_ns * 1e-9 - m.total_s) / m.total_s);
       if (m.scheduler != scheduler || m.block_size != block_size)
         fmt::print(stderr,
                    "hrad: warning: {} ran {} with block size {}, the simulation {} with {}\n",
@@ -433,6 +473,10 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                   "cut task durations above this (ns) to it: removes preemptions recorded inside "
                   "tasks on a loaded machine")
       ->check(CLI::Range(1u, TraceRecord::kBlockStart - 1));
+  sub->add_option("--stage-stats", args->stage_stats,
+                  "stats.json of the traced 1-thread run: adds each iteration's time outside the "
+                  "task loop (reload and load, link compaction, stage start and end), Amdahl over "
+                  "outside_serial_share");
   sub->add_option("--measured", args->measured,
                   "stats.json of a real run to compare with (repeatable)");
   sub->add_option("--out", args->out, "write the rows as CSV");

@@ -120,6 +120,30 @@ TEST(SimContention, GuidedRunsEveryTaskOnceAtManyProcessors) {
   }
 }
 
+TEST(SimContention, OutsideTheLoopIsAmdahlOverTheOneThreadTime) {
+  // 1000 tasks of 1 us at P processors, no scheduler costs: the loop takes 1000 / P us;
+  // the stage outside it, N = 600 us at 1 thread with serial share s = 0.25, adds
+  // N (s + (1 − s) / P); every share adds up to P × time.
+  const TaskGraph g = roots(1000, 1000);
+  CostModel k;
+  k.outside_serial_share = 0.25;
+  for (int p : {1, 2, 4, 10}) {
+    SimConfig c = config(Policy::kStack, p, 1, k);
+    c.outside = {OutsideLoop{400'000, 150'000, 50'000}};
+    const SimResult r = simulate(g, c);
+    const IterationResult& it = r.iterations[0];
+    const double outside = 600'000 * (0.25 + 0.75 / p);
+    EXPECT_NEAR(it.time_ns, 1'000'000.0 / p + outside, 1e-6) << p;
+    EXPECT_NEAR(it.outside_ns, p * outside, 1e-6) << p;
+    EXPECT_NEAR(it.busy_ns + it.overhead_ns + it.lock_wait_ns + it.idle_ns + it.outside_ns,
+                p * it.time_ns, 1e-6)
+        << p;
+    // Without an entry for the iteration: nothing is added.
+    c.outside.clear();
+    EXPECT_NEAR(simulate(g, c).time_ns(), 1'000'000.0 / p, 1e-6) << p;
+  }
+}
+
 TEST(SimContention, FitOfHandoffSamples) {
   // handoff = 200 + 50 (k − 2), exactly.
   std::vector<HandoffSample> s;

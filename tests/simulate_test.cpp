@@ -406,6 +406,25 @@ TEST(Simulate, CommandLine) {
   EXPECT_NE(text("cut.csv").find("simulated,blocked,2,1,all,0.000255,"), std::string::npos)
       << text("cut.csv");
 
+  // --stage-stats: the traced run's time outside the task loop (1 thread, one iteration
+  // here: 0.001 + 0.0005 + 0.0002 + 0.0003 s) is added to the 1-processor prediction.
+  std::ofstream(dir / "stage.json") << R"({"config": {"threads": 1}, "iterations": [
+      {"load_s": 0.001, "link_compact_s": 0.0005, "stage_start_s": 0.0002, "stage_end_s": 0.0003}]})";
+  ASSERT_EQ(run("t.bin --procs 1 --costs zero.json --block-ns 0 --stage-stats stage.json --quiet "
+                "--out stage.csv"),
+            0)
+      << text("err.txt");
+  EXPECT_NE(text("stage.csv").find("simulated,blocked,2,1,all,0.00251,"), std::string::npos)
+      << text("stage.csv");
+  std::ofstream(dir / "two.json") << R"({"config": {"threads": 2}, "iterations": []})";
+  EXPECT_EQ(run("t.bin --stage-stats two.json --out bad.csv"), 1);
+  EXPECT_NE(text("err.txt").find("a 1-thread run"), std::string::npos) << text("err.txt");
+  std::ofstream(dir / "old.json") << R"({"config": {"threads": 1}, "iterations": [{"load_s": 1}]})";
+  EXPECT_EQ(run("t.bin --stage-stats old.json --out bad.csv"), 1);
+  EXPECT_NE(text("err.txt").find("old.json: not an hrad stats.json with the stage's costs"),
+            std::string::npos)
+      << text("err.txt");
+
   EXPECT_EQ(run("junk.bin --out bad.csv"), 1);
   EXPECT_NE(text("err.txt").find("junk.bin: not an hrad trace"), std::string::npos)
       << text("err.txt");

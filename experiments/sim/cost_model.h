@@ -22,6 +22,8 @@
 // |                | the lock is idle this long between release and grant when contended)    |
 // | handoff_waiter_ns | a contended hand-off is longer by this per further waiter: each     |
 // |                | spinner's CAS takes the lock's line once before the next holder gets it |
+// | outside_serial_share | the serial share s of the stage's time outside the task loop: |
+// |                | N measured at 1 thread takes N × (s + (1 − s) / P) (simulator.h); 0..1   |
 //
 // Contention: the central lock (blocked's per-processor stacks are under it too) has one
 // holder at a time; each stealing deque is a resource of its own (owner operations and
@@ -75,6 +77,8 @@ struct CostModel {
   double slowdown_per_proc = 0;
   double handoff_ns = 0;
   double handoff_waiter_ns = 0;
+  /// The 16-core machine's, from its 1- and 2-thread runs (default_costs()).
+  double outside_serial_share = 0.46;
 };
 
 /// Block size 0 (guided) is the schedulers' own formula, hrad::guided_block in

@@ -42,9 +42,10 @@ bool takes_oldest(Policy p) { return p == Policy::kFifo || p == Policy::kPriorit
 
 class IterationReplay {
  public:
-  IterationReplay(const IterationGraph& g, const SimConfig& c, IterationResult& out,
-                  const std::function<void(std::uint64_t)>& on_tasks)
+  IterationReplay(const IterationGraph& g, const SimConfig& c, const OutsideLoop& outside,
+                  IterationResult& out, const std::function<void(std::uint64_t)>& on_tasks)
       : g_(g),
+        outside_(outside),
         c_(c),
         k_(c.costs),
         out_(out),
@@ -84,7 +85,11 @@ class IterationReplay {
     double end = 0;
     for (const Proc& p : procs_) end = std::max(end, p.idle_since);
     for (const Proc& p : procs_) out_.idle_ns += end - p.idle_since;
-    out_.time_ns = end;
+    // Outside the loop: Amdahl over the 1-thread measurement (simulator.h).
+    const double s = k_.outside_serial_share, procs = static_cast<double>(procs_.size());
+    const double outside = outside_.total_ns() * (s + (1 - s) / procs);
+    out_.outside_ns = outside * procs;
+    out_.time_ns = end + outside;
     if (c_.keep_executions) out_.executions = std::move(runs_);
   }
 
@@ -311,6 +316,7 @@ class IterationReplay {
   }
 
   const IterationGraph& g_;
+  const OutsideLoop& outside_;
   const SimConfig& c_;
   const CostModel& k_;
   IterationResult& out_;
@@ -347,6 +353,7 @@ IterationResult SimResult::totals() const {
     s.overhead_ns += r.overhead_ns;
     s.lock_wait_ns += r.lock_wait_ns;
     s.idle_ns += r.idle_ns;
+    s.outside_ns += r.outside_ns;
     s.tasks += r.tasks;
     s.takes += r.takes;
     s.empty_takes += r.empty_takes;
@@ -373,9 +380,11 @@ SimResult simulate(const TaskGraph& graph, const SimConfig& config,
     }
   };
   SimResult result;
-  for (const IterationGraph& g : graph.iterations) {
+  const OutsideLoop none;
+  for (std::size_t k = 0; k < graph.iterations.size(); ++k) {
     result.iterations.emplace_back();
-    IterationReplay(g, config, result.iterations.back(), on_tasks).run();
+    const OutsideLoop& outside = k < config.outside.size() ? config.outside[k] : none;
+    IterationReplay(graph.iterations[k], config, outside, result.iterations.back(), on_tasks).run();
   }
   if (progress) progress(1.0);
   return result;

@@ -29,6 +29,16 @@
 // are left, blocked and stealing do not steal: IScheduler::take_own, as the refiners
 // do, core/solver/refiner.h; the load's submit is that processor's time); iterations are
 // separated by a barrier.
+//
+// Outside the task loop (SimConfig::outside, from the traced run's stats.json): the
+// stage's refine_wall_s also holds building the tasks from the previous iteration's links
+// (Refiner::reload_links) and loading them into the pool, the stage's start (the OpenMP
+// team, the solver thread) and end, and the link compaction of its finish. Measured at 1
+// thread as N, it takes N × (s + (1 − s) / P) at P processors (Amdahl), s =
+// CostModel::outside_serial_share: the task vector's growth and copy in reload_links, its
+// serial prefix sum and the release of the link lists, the team's start and the wait for
+// the slowest compaction stay serial; the parallel fill, the chunked loads and each
+// refiner's compaction of the lists it started spread over the processors.
 #pragma once
 
 #include "core/stage/run_stage.h"
@@ -41,6 +51,15 @@
 
 namespace hrad::sim {
 
+/// One iteration's stage time outside the task loop, measured at 1 thread, ns (the
+/// traced run's stats.json: load_s, link_compact_s, stage_start_s + stage_end_s).
+struct OutsideLoop {
+  double load_ns = 0;     ///< reload_links + loading the tasks into the pool
+  double compact_ns = 0;  ///< link compaction (the stage's finish)
+  double edges_ns = 0;    ///< the stage's start and end
+  [[nodiscard]] double total_ns() const { return load_ns + compact_ns + edges_ns; }
+};
+
 struct SimConfig {
   Policy policy = Policy::kStack;
   int procs = 1;
@@ -49,10 +68,13 @@ struct SimConfig {
   int load_chunk =
       static_cast<int>(kStageLoadChunk);  ///< initial tasks per load (core/stage/run_stage.h)
   bool keep_executions = false;           ///< fill IterationResult::executions (tests)
+  /// Per iteration (in the graph's order), the time outside the task loop at 1 thread;
+  /// empty or shorter: none for the iterations without an entry.
+  std::vector<OutsideLoop> outside;
 };
 
-/// Time shares summed over processors, in ns; busy + overhead + lock_wait + idle =
-/// procs × time for every iteration.
+/// Time shares summed over processors, in ns; busy + overhead + lock_wait + idle +
+/// outside = procs × time for every iteration.
 struct IterationResult {
   int iteration = 0;
   double time_ns = 0;       ///< refinement time of the iteration (barrier to barrier)
@@ -60,6 +82,7 @@ struct IterationResult {
   double overhead_ns = 0;   ///< holding locks, queue operations, copies, block_ns
   double lock_wait_ns = 0;  ///< waiting for a lock or deque held by another processor
   double idle_ns = 0;       ///< nothing to do
+  double outside_ns = 0;    ///< procs × the stage's time outside the task loop (SimConfig)
   std::uint64_t tasks = 0, takes = 0, empty_takes = 0, submits = 0, steals = 0;
   std::vector<std::uint32_t> executions;  ///< per task, times run (keep_executions)
 };
