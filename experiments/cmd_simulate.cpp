@@ -9,7 +9,8 @@
 // | --procs         | LIST      | 1,2,4,8,16,32,64        | processor counts to simulate            |
 // | --scheduler     | NAME      | the trace's             | one of policy_names() (cost_model.h)    |
 // | --block-size    | N         | the trace's             | tasks per take (0: guided)              |
-// | --costs         | FILE.json | per-scheduler defaults  | cost model fields (cost_model.h)        |
+// | --costs         | FILE.json | per-scheduler defaults  | cost model fields (cost_model.h);       |
+// |                 |           |                         | repeatable, later files override        |
 // | --take-ns       | X         | default                 | take_op_ns: lock held per take          |
 // | --submit-ns     | X         | default                 | submit_op_ns: lock held per submit      |
 // | --steal-ns      | X         | default                 | steal_task_ns: per stolen task          |
@@ -59,7 +60,8 @@ struct SimulateArgs {
   std::string scheduler;
   std::optional<int> block_size;  ///< none: the trace's
   double scale = 1;
-  std::string costs, overheads = "typical", calibrate, out;
+  std::vector<std::string> costs;  ///< applied in order: a later file overrides
+  std::string overheads = "typical", calibrate, out;
   std::optional<double> take_ns, submit_ns, steal_ns, block_ns, task_ns, slowdown;
   std::optional<std::uint32_t> max_task_ns;
   std::vector<std::string> measured;
@@ -269,7 +271,7 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   // With the stage's own figures, its start is in stage_start_s and the first chunk's
   // load in load_s: the trace's first-task start would count them twice.
   if (!outside.empty()) costs.start_ns = 0;
-  if (!a.costs.empty()) load_costs(a.costs, costs);
+  for (const std::string& file : a.costs) load_costs(file, costs);
   const std::pair<const char*, const std::optional<double>*> flags[] = {
       {"--take-ns", &a.take_ns},
       {"--submit-ns", &a.submit_ns},
@@ -453,7 +455,8 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                   "1-thread refinement time / this one's)")
       ->capture_default_str();
   sub->add_option("--costs", args->costs,
-                  "JSON object of cost model fields (experiments/sim/cost_model.h)");
+                  "JSON object of cost model fields (experiments/sim/cost_model.h); repeatable, "
+                  "a later file overrides an earlier one");
   sub->add_option("--take-ns", args->take_ns, "central lock held per take, ns");
   sub->add_option("--submit-ns", args->submit_ns, "central lock held per submit, ns");
   sub->add_option("--steal-ns", args->steal_ns, "per stolen task, ns");
