@@ -314,8 +314,11 @@ TEST(Simulate, BadInputIsReported) {
   std::ofstream(costs) << R"({"take_op_ns": 5, "tak_task_ns": 1})";
   CostModel c;
   EXPECT_THROW(load_costs(costs, c), std::runtime_error);
-  std::ofstream(costs) << R"({"take_op_ns": 5, "slowdown": 1.5})";
+  std::ofstream(costs) << R"({"outside_serial_share": 1.5})";  // a share: 0..1
+  EXPECT_THROW(load_costs(costs, c), std::runtime_error);
+  std::ofstream(costs) << R"({"take_op_ns": 5, "slowdown": 1.5, "outside_serial_share": 0.25})";
   load_costs(costs, c);
+  EXPECT_DOUBLE_EQ(c.outside_serial_share, 0.25);
   fs::remove(costs);
   EXPECT_EQ(c.take_op_ns, 5);
   EXPECT_EQ(c.slowdown, 1.5);
