@@ -24,7 +24,8 @@ int run_rounds(int threads, int rounds, bool late) {
   for (int me = 0; me < threads; ++me)
     team.emplace_back([&, me] {
       for (int r = 0; r < rounds; ++r) {
-        if (late && me == 0 && r % 8 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        if (late && me == 0 && r % 8 == 0)
+          std::this_thread::sleep_for(std::chrono::milliseconds(2));
         slot[static_cast<std::size_t>(me)] = r;
         barrier.wait();
         for (int v : slot)

@@ -327,7 +327,7 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
 }
 
 void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements, int threads,
-                           std::vector<Task>& tasks) {
+                           TaskList& tasks) {
   // Each element's tasks go to a fixed place (a prefix sum of the link counts), so
   // the list is the same whatever the thread count, and is filled in parallel.
   // The counts are read in parallel (each element's line is a cache miss), the prefix
@@ -338,7 +338,10 @@ void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& el
   for (std::ptrdiff_t i = 0; i < n; ++i)
     first[static_cast<std::size_t>(i) + 1] = elements[static_cast<std::size_t>(i)]->links.size();
   for (std::size_t i = 0; i < elements.size(); ++i) first[i + 1] += first[i];
-  tasks.resize(first.back());  // only a longer list constructs (serially) its new tail
+  // Every task is written below: a list too small is replaced rather than grown (nothing
+  // copied), and its new tail left unwritten (TaskList).
+  if (first.back() > tasks.capacity()) TaskList().swap(tasks);
+  tasks.resize(first.back());
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1024) if (first.back() > 65536)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     Element* e = elements[static_cast<std::size_t>(i)];

@@ -7,6 +7,7 @@
 // started.
 #pragma once
 
+#include "core/base/uninitialized_allocator.h"
 #include "core/hierarchy/element.h"
 #include "core/parallel/lock_pool.h"
 #include "core/parallel/pin_plan.h"
@@ -49,6 +50,10 @@ struct RefineLimits {
 /// its finish_s is the time to compact the stage's link lists,
 /// core/hierarchy/link_list.h); in the total they are summed over refiners, finish_s
 /// the longest, and bound / bind_warning unused. The rule's own follow.
+/// A stage's initial tasks: reload_links fills every field of every task in parallel,
+/// so growing the list writes nothing (core/base/uninitialized_allocator.h).
+using TaskList = std::vector<Task, UninitializedAllocator<Task>>;
+
 struct RefineCounters : StageWorkerCounters {
   std::uint64_t links_created = 0;  ///< accepted links that were not links before
   std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
@@ -122,7 +127,7 @@ class Refiner {
   /// `tasks` is resized to the link count and overwritten: pass the previous
   /// iteration's vector, so that its memory (and its pages) are reused.
   static void reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements, int threads,
-                           std::vector<Task>& tasks);
+                           TaskList& tasks);
 
  private:
   struct Worker;

@@ -98,7 +98,7 @@ struct RunState {
   LockPool link_locks;
   Refiner refiner;
   std::vector<TraceRecord> trace;
-  std::vector<Task> tasks;
+  TaskList tasks;
   double reload_s = 0;  ///< building this iteration's tasks (counted in its refinement)
   int max_sweeps = 0;
   bool grey = false;
