@@ -37,11 +37,13 @@ def _pyplot():
 
 
 def parse_args(description):
-    """RESULT_DIR [--out-dir DIR] [--simulated CSV]."""
+    """RESULT_DIR [--out-dir DIR] [--simulated CSV] [--control CSV]."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument("result_dir", help="experiment result folder (runs.csv, manifest.json)")
     p.add_argument("--out-dir", help="where to write the figures [default: RESULT_DIR]")
     p.add_argument("--simulated", help="simulated speedup CSV (hrad simulate); used by speedup.py")
+    p.add_argument("--control", help="a tools/scaling-check.sh scaling.csv whose hardware "
+                   "control gives the machine's limit; used by speedup.py")
     a = p.parse_args()
     if a.out_dir is None:
         a.out_dir = a.result_dir

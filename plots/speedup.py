@@ -15,7 +15,9 @@ curve's label gives its error against them at 1 and 2 processors and says whethe
 is within 10% (the simulator's validation target).
 The caption's command then carries --simulated, and the dashed curves' labels say that
 they replay a trace of their own scene and settings (the trace file, `source`).
-Usage: speedup.py RESULT_DIR [--out-dir DIR] [--simulated CSV]
+With --control CSV (a tools/scaling-check.sh scaling.csv) the machine's limit from its
+hardware control (P x the efficiency of N one-thread solves run at once) is drawn dashed.
+Usage: speedup.py RESULT_DIR [--out-dir DIR] [--simulated CSV] [--control CSV]
 """
 import os
 
@@ -100,6 +102,17 @@ if args.simulated:
                      "settings,\nnot those of the measured curves" + validation(sim, measured, key))
         top = max(top, max(p[0] for p in pts))
 ideal(a, top)
+if args.control:
+    # The hardware control of tools/scaling-check.sh: N one-thread solves at once against
+    # one alone; P threads can at best reach P x that efficiency (drawn from 1 to N).
+    ctl = common.load_csv(args.control)
+    alone = [r["refine_wall_s"] for r in ctl if r["kind"] == "control-alone"]
+    together = [r["refine_wall_s"] for r in ctl if r["kind"] == "control-parallel"]
+    if alone and together:
+        n = sum(1 for r in ctl if r["kind"] == "control-parallel" and str(r["rep"]).startswith("1-"))
+        eff = sorted(alone)[len(alone) // 2] / sorted(together)[len(together) // 2]
+        a.plot([1, n], [1, n * eff], color="0.3", linestyle="--",
+               label=f"machine's limit (hardware control: {eff:.2f} at {n})")
 if top > 8:  # simulated curves far beyond the measured threads: log-log
     a.set_yscale("log", base=2)
 a.set_title("(a) speedup of the refinement, all iterations")
@@ -121,4 +134,6 @@ if args.simulated:
     title += ("; dashed: simulated from a task trace (hrad simulate), whose scene, settings "
               "and revision are its own")
     extra = f" --simulated {os.path.basename(args.simulated)}"
+if args.control:
+    extra += f" --control {os.path.basename(args.control)}"
 common.save(fig, args.out_dir, "speedup", common.caption(manifest, runs, title, extra))

@@ -11,7 +11,8 @@ stand-in package on PYTHONPATH whose import fails) the script exits non-zero wit
 line on stderr naming matplotlib, no traceback and no figure. For numa, a one-node
 manifest must get the note saying why every ratio is 1.0; for speedup with
 --simulated, the caption's command carries --simulated and the dashed curve's label
-says that it is not the measured runs' settings.
+says that it is not the measured runs' settings; with --control, the machine's limit
+from a scaling check's hardware control is drawn.
 """
 import csv
 import json
@@ -46,10 +47,12 @@ for needle in ("<svg", label, "synthetic-host",
                f"Regenerate: hrad experiment experiments/configs/{config}.json"):
     if needle not in text:
         fail(f"{svg} lacks {needle!r}")
+if "--control" in extra and "machine's limit" not in text:
+    fail(f"{svg}: the hardware control's limit is not drawn")
 if extra and "simulated" not in text:
     fail(f"{svg}: the simulated curves are not labelled")
 if extra and figure == "speedup":
-    for needle in (f"--simulated {os.path.basename(extra[-1])}", "not those of the measured"):
+    for needle in (f"--simulated {os.path.basename(extra[extra.index('--simulated') + 1])}", "not those of the measured"):
         if needle not in text:
             fail(f"{svg} lacks {needle!r}")
 

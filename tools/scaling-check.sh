@@ -46,10 +46,11 @@ kind, scene, sched, block, threads, rep, d = sys.argv[1:8]
 s = json.load(open(os.path.join(d, "stats.json")))
 t = s["totals"]
 lock = sum(i["lock_wait_s"].get("scheduler", 0) for i in s["iterations"])
+tasks = sum(i["tasks"] for i in s["iterations"])
 load = os.getloadavg()[0]
 print(f"{kind},{scene},{sched},{block},{threads},{rep},{t['wall_s']:.4f},{t['refine_wall_s']:.4f},"
       f"{t['propagate_wall_s']:.4f},{t['sweeps_s']:.4f},{t['prepare_s']:.4f},{lock:.4f},"
-      f"{t.get('tasks', 0)},{t['links']},{load:.2f}")
+      f"{tasks},{t['links']},{load:.2f}")
 EOF
   tail -1 "$CSV" >&2
 }
