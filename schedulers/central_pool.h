@@ -4,7 +4,8 @@
 // guided block (guided_block in scheduler.h: ceil(held / 2 threads), at most
 // kGuidedMaxBlock).
 //
-// The lock is a SpinMutex (core/parallel/spin_mutex.h). Lock waits are timed only when
+// submit_and_take (the driver's visit between two blocks) pushes and takes under one
+// acquisition. The lock is a SpinMutex (core/parallel/spin_mutex.h). Lock waits are timed only when
 // the lock is contended (try_lock first), so the instrumentation costs nothing on the
 // uncontended path.
 #pragma once
@@ -30,33 +31,27 @@ class CentralPool : public IScheduler {
         name_(name) {}
 
   std::size_t take(int /*worker*/, std::span<Task> out) override {
-    std::size_t n = 0;
-    {
-      std::unique_lock lock = acquire();
-      const std::size_t want =
-          std::min(out.size(), block_size_ > 0 ? block_size_ : guided_block(held_, threads_));
-      while (n < want && !tasks_.empty()) out[n++] = tasks_.pop();
-      held_ -= n;
-      if (n > 0)
-        ++counters_.takes;
-      else
-        ++counters_.empty_takes;
-    }
-    return n;
+    std::unique_lock lock = acquire();
+    return take_locked(out);
   }
 
   void submit(int /*worker*/, std::span<const Task> tasks) override {
     if (tasks.empty()) return;
     std::vector<Task> sorted;  // pool_order: sorted outside the lock
-    if (order_ != PoolOrder::Submitted) {
-      sorted.assign(tasks.begin(), tasks.end());
-      order_batch(sorted, order_);
-      tasks = sorted;
-    }
+    tasks = ordered(tasks, sorted);
     std::unique_lock lock = acquire();
-    for (const Task& t : tasks) tasks_.push(t);
-    held_ += tasks.size();
-    ++counters_.submits;
+    push_locked(tasks);
+  }
+
+  /// The driver's visit between two blocks: the submit and the next take under one
+  /// acquisition of the lock (as `blocked`), so a block costs one hand-off of its line.
+  std::size_t submit_and_take(int /*worker*/, std::span<const Task> tasks, std::span<Task> out,
+                              bool /*own_only: one pool, nothing is another's*/) override {
+    std::vector<Task> sorted;
+    tasks = ordered(tasks, sorted);
+    std::unique_lock lock = acquire();
+    if (!tasks.empty()) push_locked(tasks);
+    return take_locked(out);
   }
 
   [[nodiscard]] SchedulerCounters counters() const override {
@@ -66,6 +61,33 @@ class CentralPool : public IScheduler {
   [[nodiscard]] const char* name() const override { return name_; }
 
  private:
+  // The batch in pool_order (sorted outside the lock, into `sorted`).
+  std::span<const Task> ordered(std::span<const Task> tasks, std::vector<Task>& sorted) const {
+    if (order_ == PoolOrder::Submitted || tasks.empty()) return tasks;
+    sorted.assign(tasks.begin(), tasks.end());
+    order_batch(sorted, order_);
+    return sorted;
+  }
+  // Under mutex_.
+  void push_locked(std::span<const Task> tasks) {
+    for (const Task& t : tasks) tasks_.push(t);
+    held_ += tasks.size();
+    ++counters_.submits;
+  }
+  // Under mutex_: up to a block (fixed or guided) of tasks in the container's order.
+  std::size_t take_locked(std::span<Task> out) {
+    const std::size_t want =
+        std::min(out.size(), block_size_ > 0 ? block_size_ : guided_block(held_, threads_));
+    std::size_t n = 0;
+    while (n < want && !tasks_.empty()) out[n++] = tasks_.pop();
+    held_ -= n;
+    if (n > 0)
+      ++counters_.takes;
+    else
+      ++counters_.empty_takes;
+    return n;
+  }
+
   // counters_ is only written under mutex_, so the wait can be added to it.
   std::unique_lock<SpinMutex> acquire() { return timed_lock(mutex_, counters_.lock_wait_s); }
 

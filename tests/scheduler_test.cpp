@@ -538,35 +538,36 @@ TEST(SchedOwn, TakeOwnLeavesOtherWorkersTasksAlone) {
 // followed by take (take_own when own_only) gives, for every scheduler: the same tasks
 // in the same order, the same counters. `blocked` does both under one lock acquisition.
 TEST(SchedSubmitAndTake, SameAsSubmitThenTake) {
-  for (const std::string& name : scheduler_names()) {
-    SCOPED_TRACE(name);
-    auto a = make_scheduler(name, SchedulerConfig{2, 3});
-    auto b = make_scheduler(name, SchedulerConfig{2, 3});
-    std::vector<Task> roots;
-    for (std::uint32_t i = 0; i < 8; ++i) roots.push_back(task_for(i));
-    a->submit(0, roots);
-    b->submit(0, roots);
-    std::mt19937 rng(5);
-    std::uint32_t next = 100;
-    std::vector<Task> out_a(3), out_b(3);
-    for (int step = 0; step < 200; ++step) {
-      const int worker = step % 2;
-      const bool own_only = (rng() % 4) == 0;
-      std::vector<Task> kids;
-      for (std::uint32_t k = rng() % 4; k > 0; --k) kids.push_back(task_for(next++));
-      a->submit(worker, kids);
-      const std::size_t na = own_only ? a->take_own(worker, out_a) : a->take(worker, out_a);
-      const std::size_t nb = b->submit_and_take(worker, kids, out_b, own_only);
-      ASSERT_EQ(na, nb) << "step " << step;
-      for (std::size_t i = 0; i < na; ++i)
-        ASSERT_EQ(id_of(out_a[i]), id_of(out_b[i])) << "step " << step;
+  for (const std::string& name : scheduler_names())
+    for (int block : {3, 0}) {  // fixed, guided
+      SCOPED_TRACE(name + " block " + std::to_string(block));
+      auto a = make_scheduler(name, SchedulerConfig{2, block});
+      auto b = make_scheduler(name, SchedulerConfig{2, block});
+      std::vector<Task> roots;
+      for (std::uint32_t i = 0; i < 8; ++i) roots.push_back(task_for(i));
+      a->submit(0, roots);
+      b->submit(0, roots);
+      std::mt19937 rng(5);
+      std::uint32_t next = 100;
+      std::vector<Task> out_a(max_block(block)), out_b(max_block(block));
+      for (int step = 0; step < 200; ++step) {
+        const int worker = step % 2;
+        const bool own_only = (rng() % 4) == 0;
+        std::vector<Task> kids;
+        for (std::uint32_t k = rng() % 4; k > 0; --k) kids.push_back(task_for(next++));
+        a->submit(worker, kids);
+        const std::size_t na = own_only ? a->take_own(worker, out_a) : a->take(worker, out_a);
+        const std::size_t nb = b->submit_and_take(worker, kids, out_b, own_only);
+        ASSERT_EQ(na, nb) << "step " << step;
+        for (std::size_t i = 0; i < na; ++i)
+          ASSERT_EQ(id_of(out_a[i]), id_of(out_b[i])) << "step " << step;
+      }
+      const SchedulerCounters ca = a->counters(), cb = b->counters();
+      EXPECT_EQ(ca.takes, cb.takes);
+      EXPECT_EQ(ca.empty_takes, cb.empty_takes);
+      EXPECT_EQ(ca.steals, cb.steals);
+      EXPECT_EQ(ca.submits, cb.submits);
     }
-    const SchedulerCounters ca = a->counters(), cb = b->counters();
-    EXPECT_EQ(ca.takes, cb.takes);
-    EXPECT_EQ(ca.empty_takes, cb.empty_takes);
-    EXPECT_EQ(ca.steals, cb.steals);
-    EXPECT_EQ(ca.submits, cb.submits);
-  }
 }
 
 TEST(SchedRegistry, KnowsTheFiveSchedulers) {

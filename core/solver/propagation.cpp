@@ -22,8 +22,8 @@ namespace {
 // subtrees, until the heaviest subtree weighs at most 1/kSubtreesPerPart of a part's
 // share (or is a leaf). The subtrees are dealt to the parts, heaviest first, each to the
 // part with the least weight so far, and a part's subtrees are kept in memory order.
-// A sweep is then one parallel region with two barriers whatever the depth of the
-// hierarchy: one thread gathers and pushes the top (a few hundred elements, parents
+// A sweep then needs two barriers whatever the depth of the hierarchy (and a
+// propagation's sweeps share one parallel region, Sweeper): one thread gathers and pushes the top (a few hundred elements, parents
 // first); each thread then walks its part's subtrees depth first, gathering and pushing
 // an element on the way down and pulling and finishing it on the way up, so an element's
 // lines are touched once per sweep by one core; after a barrier one thread pulls the top,
@@ -478,7 +478,7 @@ class GatherMatrix {
 // values (one channel in a grey scene), twice: a sweep gathers from the last sweep's
 // and stores into the other, since one thread may finish an element while another
 // still gathers from it. run() does all the sweeps in one parallel region, the team
-// meeting at three TeamBarrier waits per sweep and at no OpenMP barrier.
+// meeting at two TeamBarrier waits per sweep and at no OpenMP barrier.
 class Sweeper {
  public:
   Sweeper(const std::vector<Element*>& elements, int threads, ClusterReceiver mode, bool grey)

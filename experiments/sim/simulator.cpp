@@ -141,9 +141,7 @@ class IterationReplay {
     me.block.clear();
     double ready = t;
     if (is_central(c_.policy)) {
-      const std::size_t n = std::min(take_size(central_.size()), central_.size());
-      ready = acquire(lock_, p, t, k_.take_op_ns + static_cast<double>(n) * k_.take_task_ns, true);
-      pop(central_, n, takes_oldest(c_.policy), me.block);
+      ready = acquire(lock_, p, t, k_.take_op_ns + take_central(p), true);
     } else if (c_.policy == Policy::kBlocked) {
       ready = acquire(lock_, p, t, k_.take_op_ns + take_blocked(p), true);
     } else {
@@ -192,6 +190,14 @@ class IterationReplay {
     pop(*from, n, steal, me.block);
     pooled_ -= n;
     if (steal) out_.steals += n;
+    return static_cast<double>(n) * k_.take_task_ns;
+  }
+
+  // Under the central lock, stack / fifo / priority: up to a block into p's block;
+  // returns the time the tasks add to the hold.
+  double take_central(int p) {
+    const std::size_t n = std::min(take_size(central_.size()), central_.size());
+    pop(central_, n, takes_oldest(c_.policy), procs_[static_cast<std::size_t>(p)].block);
     return static_cast<double>(n) * k_.take_task_ns;
   }
 
@@ -247,17 +253,19 @@ class IterationReplay {
       }
       if (c_.policy == Policy::kBlocked) pooled_ += created;
     };
-    if (c_.policy == Policy::kBlocked) {
+    if (c_.policy != Policy::kStealing) {
       // submit_and_take: the children pushed and the next block taken under one
-      // acquisition (the driver's visit between two blocks, schedulers/blocked.cpp).
-      q = &deques_[static_cast<std::size_t>(p)];
-      const double copy = static_cast<double>(created) * k_.copy_task_ns;
+      // acquisition (the driver's visit between two blocks; schedulers/blocked.cpp,
+      // schedulers/central_pool.h). `blocked` copies the batch first, outside the lock.
+      const bool blocked = c_.policy == Policy::kBlocked;
+      q = blocked ? &deques_[static_cast<std::size_t>(p)] : &central_;
+      const double copy = blocked ? static_cast<double>(created) * k_.copy_task_ns : 0;
       out_.overhead_ns += copy;
       push_children();
       const double held = k_.submit_op_ns + static_cast<double>(created) * k_.submit_task_ns +
-                          k_.take_op_ns + take_blocked(p);
+                          k_.take_op_ns + (blocked ? take_blocked(p) : take_central(p));
       const double release = acquire(lock_, p, t + copy, held, true);
-      wake(release, further_blocks(pooled_));
+      wake(release, further_blocks(blocked ? pooled_ : central_.size()));
       run_block(p, release);
       return;
     }

@@ -5,8 +5,9 @@
 // block_size tasks (0: guided, guided_block in schedulers/scheduler.h), run them (recorded
 // durations × the slowdown), spend block_ns, then submit the tasks the block created in
 // one operation; those become available when the submit releases the lock (or the
-// deque). `blocked` submits and takes its next block under one acquisition
-// (IScheduler::submit_and_take); the others submit, then take. Lock-like resources (the
+// deque). The central pools (`blocked`, `stack`, `fifo`, `priority`) submit and take
+// the next block under one acquisition (IScheduler::submit_and_take); `stealing`
+// pushes onto its deque, then takes. Lock-like resources (the
 // central lock, each stealing deque) are granted first come, first served, one holder at
 // a time; an operation's effect on the queue is applied in grant order, which equals
 // request order, so the queues are always consistent with the simulated clock. The
