@@ -135,7 +135,11 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
 std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const Transport& transport,
                                   int threads, PushVisibility mode) {
   bool any_light = false;
-  for (const Element* e : elements) any_light = any_light || (e->B > 0).any();
+  const auto count = static_cast<std::ptrdiff_t>(elements.size());
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(|| : any_light)
+  for (std::ptrdiff_t i = 0; i < count; ++i)
+    any_light = any_light || (elements[static_cast<std::size_t>(i)]->B > 0).any();
+  threads_ = threads;
   parents_.clear();
   offset_.assign(1, 0);
   for (Element* e : elements)
@@ -174,9 +178,12 @@ std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const T
 
 void PushWeights::apply(bool geometric) const {
   const std::vector<float>& w = geometric ? geometry_ : light_;
-  for (std::size_t i = 0; i < parents_.size(); ++i) {
-    const auto kids = parents_[i]->child_span();
-    for (std::size_t k = 0; k < kids.size(); ++k) kids[k].push_weight = w[offset_[i] + k];
+  const auto n = static_cast<std::ptrdiff_t>(parents_.size());
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    const auto kids = parents_[u]->child_span();
+    for (std::size_t k = 0; k < kids.size(); ++k) kids[k].push_weight = w[offset_[u] + k];
   }
 }
 

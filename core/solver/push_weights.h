@@ -83,6 +83,7 @@ class PushWeights {
 
  private:
   std::vector<Element*> parents_;    ///< elements with children
+  int threads_ = 1;                  ///< the last update's, for apply()
   std::vector<std::size_t> offset_;  ///< parents_[i]'s children: offset_[i] .. offset_[i + 1]
   std::vector<float> light_, geometry_;
   std::vector<ChildVisibility> own_;         ///< per old_parents_[i] (push_visibility = child)

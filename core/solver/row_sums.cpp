@@ -60,11 +60,18 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
   const auto unit = [](const Link& l) -> Rgb { return Rgb::Constant(l.transport()); };
   // First per unit of area, as the links give it, then per unit of open area, as the
   // propagation gathers (core/transport/open_fraction.h); the same when nothing is closed in.
-  const bool closed_in = std::any_of(elements.begin(), elements.end(),
-                                     [](const Element* e) { return e->open >= 0 && e->open < 1; });
+  const auto count = static_cast<std::ptrdiff_t>(elements.size());
+  bool closed_in = false;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(|| : closed_in)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    const Element* e = elements[static_cast<std::size_t>(i)];
+    closed_in = closed_in || (e->open >= 0 && e->open < 1);
+  }
   gather_and_push(elements, receiver, threads, unit, false);
   std::vector<double> plain(elements.size());
-  for (std::size_t i = 0; i < elements.size(); ++i) plain[i] = elements[i]->next[0];
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::ptrdiff_t i = 0; i < count; ++i)
+    plain[static_cast<std::size_t>(i)] = elements[static_cast<std::size_t>(i)]->next[0];
   if (closed_in) gather_and_push(elements, receiver, threads, unit, true);
   std::vector<Element*> leaves;
   double area = 0;
