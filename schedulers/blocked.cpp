@@ -141,8 +141,7 @@ class BlockedScheduler final : public IScheduler {
   // `may_steal`) from the oldest chunk of the next non-empty one.
   std::size_t take_locked(int worker, std::span<Task> out, bool may_steal,
                           std::vector<Task>& discard) {
-    const std::size_t block = block_size_ > 0 ? block_size_ : guided_block(held_, threads_);
-    const std::size_t want = std::min(out.size(), block);
+    const std::size_t want = std::min(out.size(), take_size(block_size_, held_, threads_));
     const std::size_t w = slot(worker);
     std::size_t n = stacks_[w].pop(out, want, discard);
     for (std::size_t k = 1; may_steal && n == 0 && k < stacks_.size(); ++k) {
@@ -152,10 +151,7 @@ class BlockedScheduler final : public IScheduler {
       counters_.steals += n;
     }
     held_ -= n;
-    if (n > 0)
-      ++counters_.takes;
-    else
-      ++counters_.empty_takes;
+    count_take(counters_, n);
     return n;
   }
 

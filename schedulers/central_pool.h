@@ -76,15 +76,11 @@ class CentralPool : public IScheduler {
   }
   // Under mutex_: up to a block (fixed or guided) of tasks in the container's order.
   std::size_t take_locked(std::span<Task> out) {
-    const std::size_t want =
-        std::min(out.size(), block_size_ > 0 ? block_size_ : guided_block(held_, threads_));
+    const std::size_t want = std::min(out.size(), take_size(block_size_, held_, threads_));
     std::size_t n = 0;
     while (n < want && !tasks_.empty()) out[n++] = tasks_.pop();
     held_ -= n;
-    if (n > 0)
-      ++counters_.takes;
-    else
-      ++counters_.empty_takes;
+    count_take(counters_, n);
     return n;
   }
 

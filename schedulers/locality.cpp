@@ -114,9 +114,8 @@ class LocalityScheduler final : public IScheduler {
       Pool& p = pools_[(home + k) % nodes_];
       if (p.hint.load(std::memory_order_relaxed) == 0) continue;  // skip the lock when empty
       std::unique_lock lock = timed_lock(p.mutex, p.lock_wait_s);
-      const std::size_t block =
-          block_size_ > 0 ? block_size_ : guided_block(p.stack.size(), threads_);
-      n = p.stack.pop(out, std::min(out.size(), block), discard);
+      n = p.stack.pop(out, std::min(out.size(), take_size(block_size_, p.stack.size(), threads_)),
+                      discard);
       p.hint.store(p.stack.size(), std::memory_order_relaxed);
       if (k > 0) count(worker).steals.add(n);
     }

@@ -66,6 +66,12 @@ inline std::size_t guided_block(std::size_t pool, int threads) {
   return std::clamp<std::size_t>((pool + share - 1) / share, 1, kGuidedMaxBlock);
 }
 
+/// The tasks a take hands out from a pool of `pool` tasks: `block_size`, or the guided
+/// block when it is 0.
+inline std::size_t take_size(std::size_t block_size, std::size_t pool, int threads) {
+  return block_size > 0 ? block_size : guided_block(pool, threads);
+}
+
 /// The largest take a scheduler with this block_size makes (the caller's buffer size).
 inline std::size_t max_block(int block_size) {
   return block_size > 0 ? static_cast<std::size_t>(block_size) : kGuidedMaxBlock;
@@ -95,6 +101,9 @@ struct SchedulerCounters {
   std::uint64_t steals = 0;  ///< tasks taken from another worker's queue
   double lock_wait_s = 0;    ///< time spent waiting for the scheduler's lock(s)
 };
+
+/// Counts a take that returned n tasks (an empty take when n is 0).
+inline void count_take(SchedulerCounters& c, std::size_t n) { ++(n > 0 ? c.takes : c.empty_takes); }
 
 class IScheduler {
  public:
