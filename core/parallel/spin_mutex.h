@@ -56,14 +56,7 @@ class SpinMutex {
 
   /// lock() after a failed try_lock(): the read-only spin, then the sleep.
   void lock_contended() noexcept {
-    const auto t0 = Clock::now();
-    for (int round = 0;; ++round) {
-      const int pauses = 1 << (round < 5 ? round : 5);
-      for (int i = 0; i < pauses; ++i) cpu_relax();
-      if (try_lock()) return;
-      // The clock is read every 16 rounds (about every 2 µs past the first rounds).
-      if ((round & 15) == 15 && seconds_since(t0) * 1e9 > kSpinNs) break;
-    }
+    if (spin_until(kSpinNs, [this] { return try_lock(); })) return;
     // Sleep: whoever takes the lock from here on holds it as 2, so its unlock wakes
     // the next sleeper (possibly none: a harmless system call).
     while (state_.exchange(2, std::memory_order_acquire) != 0)

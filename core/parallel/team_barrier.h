@@ -39,12 +39,8 @@ class TeamBarrier {
       generation_.notify_all();
       return;
     }
-    const auto t0 = Clock::now();
-    for (int round = 0;; ++round) {
-      for (int i = 0; i < 16; ++i) cpu_relax();
-      if (generation_.load(std::memory_order_acquire) != gen) return;
-      if ((round & 15) == 15 && seconds_since(t0) * 1e9 > kSpinNs) break;
-    }
+    if (spin_until(kSpinNs, [&] { return generation_.load(std::memory_order_acquire) != gen; }))
+      return;
     while (generation_.load(std::memory_order_acquire) == gen)
       generation_.wait(gen, std::memory_order_acquire);
   }

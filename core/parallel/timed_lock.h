@@ -22,6 +22,21 @@ inline void cpu_relax() {
 #endif
 }
 
+/// Spins until done() returns true or about max_ns have passed; returns whether done()
+/// did. Between two calls of done() it pauses 1, 2, 4, ... up to 32 times (exponential
+/// back-off, so that the waiters of one cache line do not all read it at once when it
+/// changes), and it reads the clock every 16 rounds. The waits of SpinMutex and
+/// TeamBarrier spin this way before they sleep.
+template <class Done>
+bool spin_until(double max_ns, const Done& done) {
+  const auto t0 = Clock::now();
+  for (int round = 0;; ++round) {
+    for (int i = 0; i < (1 << (round < 5 ? round : 5)); ++i) cpu_relax();
+    if (done()) return true;
+    if ((round & 15) == 15 && seconds_since(t0) * 1e9 > max_ns) return false;
+  }
+}
+
 /// `wait_s` (and `contended`, counting contended acquisitions, when given) must only
 /// be written by the caller's thread or under `m` itself.
 inline std::unique_lock<std::mutex> timed_lock(std::mutex& m, double& wait_s,
