@@ -47,14 +47,8 @@ print(f"{n},{workers},{len(rows)},{wall:.3f},{60 * len(rows) / wall:.2f},{mean_r
 PY
   tail -1 "$csv"
 done
-# The plot needs matplotlib: $HRAD_PYTHON, else the first python3 that imports it.
-py=${HRAD_PYTHON:-}
-if [ -z "$py" ]; then
-  for c in python3 /usr/bin/python3; do
-    if "$c" -c "import matplotlib" 2>/dev/null; then py=$c; break; fi
-  done
-fi
-if [ -z "$py" ]; then
+# The plot needs matplotlib (tools/plot-python.sh).
+if ! py=$(bash "$(dirname "$0")/plot-python.sh"); then
   echo "mpi-scaling: no python3 with matplotlib: $csv written, no figure" >&2
   exit 0
 fi

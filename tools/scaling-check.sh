@@ -97,15 +97,9 @@ for ((r = 1; r <= REPS; ++r)); do
     run cabin builtin:cabin blocked guided "$N" "$r"
   fi
 done
-# The figure needs matplotlib: $HRAD_PYTHON, else the first python3 that imports it (the
-# table is printed either way).
-plot=${HRAD_PYTHON:-}
-if [ -z "$plot" ]; then
-  for c in python3 /usr/bin/python3; do
-    if "$c" -c "import matplotlib" 2>/dev/null; then plot=$c; break; fi
-  done
-fi
-if [ -n "$plot" ]; then
+# The figure needs matplotlib (tools/plot-python.sh); without it no table is printed
+# either, the CSV is there.
+if plot=$(bash "$(dirname "$0")/plot-python.sh"); then
   "$plot" "$(dirname "$0")/../plots/scaling_check.py" "$CSV" --out "$OUT/scaling.png"
   echo "scaling-check: wrote $CSV and $OUT/scaling.png" >&2
 else
