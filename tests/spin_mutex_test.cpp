@@ -2,6 +2,7 @@
 // its waiting paths (the read-only spin, and the futex sleep after SpinMutex::kSpinNs),
 // and its timed_lock: nothing added uncontended, the wait added when contended.
 #include "core/parallel/spin_mutex.h"
+#include "tests/contend.h"
 
 #include <gtest/gtest.h>
 
@@ -64,19 +65,7 @@ TEST(SpinMutex, TimedLockAddsOnlyContendedWaits) {
   { const auto lock = timed_lock(m, wait_s); }
   EXPECT_EQ(wait_s, 0.25);  // uncontended: nothing added, not even a clock read
 
-  std::unique_lock held(m);
-  std::atomic<bool> started{false};
-  double call_s = 0;
-  std::thread t([&] {
-    started.store(true);
-    const auto t0 = Clock::now();
-    { const auto lock = timed_lock(m, wait_s); }
-    call_s = seconds_since(t0);
-  });
-  while (!started.load()) std::this_thread::yield();
-  std::this_thread::sleep_for(20ms);  // past the spin: the waiter sleeps
-  held.unlock();
-  t.join();
+  const double call_s = contend(m, [&] { const auto lock = timed_lock(m, wait_s); });
   EXPECT_GT(wait_s, 0.25);
   EXPECT_LE(wait_s - 0.25, call_s);
 }

@@ -5,6 +5,7 @@
 #include "core/parallel/timed_lock.h"
 #include "core/base/clock.h"
 #include "core/parallel/lock_pool.h"
+#include "tests/contend.h"
 
 #include <gtest/gtest.h>
 
@@ -17,26 +18,6 @@ namespace hrad {
 namespace {
 
 using namespace std::chrono_literals;
-
-// Runs `wait_for_it` on a second thread while this one holds `m`, and lets go 50 ms
-// after the other thread is about to lock. Returns the wall seconds its call took.
-template <class F>
-double contend(std::mutex& m, F&& wait_for_it) {
-  std::unique_lock held(m);
-  std::atomic<bool> started{false};
-  double call_s = 0;
-  std::thread t([&] {
-    started.store(true);
-    const auto t0 = Clock::now();
-    wait_for_it();
-    call_s = seconds_since(t0);
-  });
-  while (!started.load()) std::this_thread::yield();
-  std::this_thread::sleep_for(50ms);
-  held.unlock();
-  t.join();
-  return call_s;
-}
 
 TEST(TimedLock, UncontendedAddsNothing) {
   std::mutex m;
