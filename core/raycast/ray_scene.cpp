@@ -14,6 +14,7 @@
 // distance). Queries that need neither set no filter.
 #include "core/raycast/ray_scene.h"
 
+#include "core/raycast/face_contacts.h"
 #include "core/raycast/face_twins.h"
 #include "core/scene/scene.h"
 
@@ -123,6 +124,8 @@ struct RayScene::Impl {
   std::vector<double> offset;
   // Twin of each input polygon (kNoPolygon), empty when no polygon has one.
   std::vector<std::uint32_t> twin;
+  // find_face_contacts over the polygons, at kContactReach * diagonal.
+  std::vector<std::uint8_t> contact;
 
   struct alignas(64) Stripe {
     std::atomic<std::uint64_t> rays{0};
@@ -232,6 +235,8 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
     if (m.diagonal > 0) m.inv_scale = 1.0 / m.diagonal;
   }
 
+  m.contact = find_face_contacts(vertices, indices, polygons, m.twin, kContactReach * m.diagonal);
+
   // Split into Embree primitives and record the double-precision planes.
   std::vector<std::uint32_t> tri_idx, quad_idx;
   m.normal.resize(polygons.size());
@@ -318,6 +323,8 @@ std::size_t RayScene::polygon_count() const { return impl_->polygons; }
 std::uint32_t RayScene::twin(std::uint32_t poly) const { return impl_->twin_of(poly); }
 
 const Vec3& RayScene::normal(std::uint32_t poly) const { return impl_->normal.at(poly); }
+
+bool RayScene::lies_against(std::uint32_t poly) const { return impl_->contact.at(poly) != 0; }
 
 std::uint64_t RayScene::rays_cast() const {
   std::uint64_t n = 0;

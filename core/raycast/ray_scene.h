@@ -115,6 +115,15 @@ class RayScene {
   /// Unit normal of input polygon `poly` (Newell's, from its vertex order; zero when
   /// degenerate): which side of a polygon a ray hit, d.normal(hit.prim) < 0 for the front.
   [[nodiscard]] const Vec3& normal(std::uint32_t poly) const;
+  /// Whether another polygon lies against `poly` face to face (a box's bottom and the
+  /// floor under it): facing it, within kContactReach * scale() of its plane, their
+  /// boxes overlapping (core/raycast/face_contacts.h; a twin does not count). Only such
+  /// a polygon has a surface at distance zero that the end-point exclusion hides.
+  [[nodiscard]] bool lies_against(std::uint32_t poly) const;
+  /// The reach of lies_against(), relative to scale(): four times the reach of the open
+  /// fractions' contact tests (core/transport/open_fraction.cpp).
+  static constexpr double kContactReach = 16 * kEndpointEpsilon;
+
   /// Rays cast so far by occluded() and intersect() together (segments too short to
   /// test are not counted). Counted in per-thread-striped relaxed atomics, so the
   /// total is exact once the querying threads have joined.

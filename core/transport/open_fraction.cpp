@@ -26,6 +26,7 @@ bool first_hit_is_back(const Vec3& at, const Vec3& dir, std::uint32_t own, const
   const auto hit = rays.intersect(at, dir, std::numeric_limits<double>::infinity(), own);
   if (!hit) return false;
   if (h.face_normal(hit->prim).dot(dir) > 0) return true;
+  if (!rays.lies_against(hit->prim)) return false;  // nothing coincides with it
   ++cast;
   // Look again just around the front hit, without it, for a coincident back face.
   const double back_off = 4 * RayScene::kEndpointEpsilon * rays.scale() / dir.norm();
@@ -48,6 +49,7 @@ bool first_hit_is_back(const Vec3& at, const Vec3& dir, std::uint32_t own, const
 // its face: it is no contact. Adds the ray to `cast`.
 bool facing_twin(const Vec3& at, const Vec3& n, std::uint32_t own, const Hierarchy& h,
                  const RayScene& rays, std::uint64_t& cast) {
+  if (!rays.lies_against(own)) return false;  // no face lies against its face
   ++cast;
   const double reach = 4 * RayScene::kEndpointEpsilon * rays.scale();
   const auto hit = rays.intersect(at - reach * n, n, 2 * reach, own);
