@@ -20,8 +20,8 @@ struct Soup {
   std::vector<PolygonRange> polygons;
 
   std::uint32_t add(const std::vector<Vec3>& corners) {
-    polygons.push_back({static_cast<std::uint32_t>(indices.size()),
-                        static_cast<std::uint32_t>(corners.size())});
+    polygons.push_back(
+        {static_cast<std::uint32_t>(indices.size()), static_cast<std::uint32_t>(corners.size())});
     for (const Vec3& c : corners) {
       indices.push_back(static_cast<std::uint32_t>(vertices.size()));
       vertices.push_back(c);
@@ -109,12 +109,12 @@ TEST(FaceContacts, FoundInEveryOrientationAndFarFromTheCentre) {
     const Vec3 n(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
     const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
     Soup s;
-    const Vec3 at = 100 * u;  // far from the centre of the scene
-    const auto a = s.add({at, at + u, at + u + v, at + v});                 // faces n
-    const double tilt = 1.5 * std::numbers::pi / 180;  // within kContactDegrees
+    const Vec3 at = 100 * u;                                 // far from the centre of the scene
+    const auto a = s.add({at, at + u, at + u + v, at + v});  // faces n
+    const double tilt = 1.5 * std::numbers::pi / 180;        // within kContactDegrees
     const Vec3 v2 = std::cos(tilt) * v + std::sin(tilt) * n;
-    const auto b = s.add({at, at + v2, at + u + v2, at + u});                // faces about -n
-    s.square(-100, -100, 1, -100, true);  // widens the scene
+    const auto b = s.add({at, at + v2, at + u + v2, at + u});  // faces about -n
+    s.square(-100, -100, 1, -100, true);                       // widens the scene
     const auto c = s.contacts(1e-3);
     EXPECT_EQ(c[a], 1) << "orientation " << k;
     EXPECT_EQ(c[b], 1) << "orientation " << k;

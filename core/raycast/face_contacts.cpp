@@ -83,9 +83,8 @@ std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
           cells[Key{x, y, z}].push_back(static_cast<std::uint32_t>(i));
   }
   for (auto& [key, members] : cells)
-    std::sort(members.begin(), members.end(), [&](std::uint32_t a, std::uint32_t b) {
-      return plane[a].offset < plane[b].offset;
-    });
+    std::sort(members.begin(), members.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return plane[a].offset < plane[b].offset; });
 
   const double cos_min = std::cos(angle);
   // Whether polygon j comes within `tolerance` of polygon i's plane (its corners are not

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <type_traits>
@@ -129,12 +130,28 @@ void push_one(Element* e, bool cosine) {
   }
 }
 
+// How a sweep's leaves move (Chebyshev acceleration, see propagate): B_{k+1} =
+// B_{k-1} + omega (G(B_k) - B_{k-1}), G the plain Jacobi update; omega 1 is the plain
+// sweep. `older` (indexed by Element::index) holds each leaf's B_{k-1} and is updated
+// as the sweep goes; null: plain sweeps, nothing kept.
+struct Relaxation {
+  double omega = 1;
+  std::vector<Rgb>* older = nullptr;
+};
+
 // A parent's radiosity is the mean of its children's over their open area
 // (core/transport/open_fraction.h): a closed-in part shows no radiosity to anyone.
-void pull_one(Element& e) {
+// Parents are linear in their leaves, so relaxing the leaves relaxes every element.
+void pull_one(Element& e, const Relaxation& relax) {
   const auto kids = e.child_span();
   if (kids.empty()) {
     e.next = e.emission + e.rho * (static_cast<double>(e.gather_scale) * e.next);
+    if (relax.older) {
+      Rgb& older = (*relax.older)[e.index];
+      const Rgb before = older;
+      older = e.B;
+      if (relax.omega != 1) e.next = before + relax.omega * (e.next - before);
+    }
   } else {
     if (e.is_cluster()) {
       // What leaves the cluster along each axis direction (see ClusterLight).
@@ -226,9 +243,9 @@ void top_down(const Partition& p, bool cosine, const Gather& gather) {
 }
 
 template <class Stored>
-void top_up(const Partition& p, const Stored& stored, SweepChange& c) {
+void top_up(const Partition& p, const Relaxation& relax, const Stored& stored, SweepChange& c) {
   for (auto it = p.top.rbegin(); it != p.top.rend(); ++it) {
-    pull_one(**it);
+    pull_one(**it, relax);
     finish_one(**it, c);
     stored(**it);
   }
@@ -237,14 +254,15 @@ void top_up(const Partition& p, const Stored& stored, SweepChange& c) {
 // The subtrees of this thread's parts: gather and push on the way down, with `full`
 // pull and finish on the way up.
 template <class Gather, class Stored>
-void subtrees(const Partition& p, bool cosine, bool full, const Gather& gather,
-              const Stored& stored, int me, int team, std::vector<SweepChange>& per_part) {
+void subtrees(const Partition& p, bool cosine, bool full, const Relaxation& relax,
+              const Gather& gather, const Stored& stored, int me, int team,
+              std::vector<SweepChange>& per_part) {
   const auto descend = [&](auto&& self, Element& e, SweepChange& c) -> void {
     gather(e);
     push_one(&e, cosine);
     for (Element& k : e.child_span()) self(self, k, c);
     if (!full) return;
-    pull_one(e);
+    pull_one(e, relax);
     finish_one(e, c);
     stored(e);
   };
@@ -495,6 +513,18 @@ class Sweeper {
     }
   }
 
+  /// The leaves' relaxation factor from the next sweep on (Relaxation); the first call
+  /// starts keeping each leaf's previous radiosity. Called from after_sweep.
+  void relax(double omega) {
+    if (!relax_.older) {
+      older_.assign(elements_.size(), Rgb::Zero());
+      relax_.older = &older_;
+    }
+    relax_.omega = omega;
+  }
+  /// Back to plain sweeps.
+  void plain() { relax_ = Relaxation{}; }
+
   /// Sweeps until after_sweep(largest change and radiosity of the sweep) returns false;
   /// after_sweep runs on the calling thread (the team's thread 0) while the others wait.
   template <class After>
@@ -545,10 +575,10 @@ class Sweeper {
       if (me == 0) top_down(parts_, cosine_, gather);
       barrier.wait();
       while (more) {
-        subtrees(parts_, cosine_, true, gather, store, me, team, per_part);
+        subtrees(parts_, cosine_, true, relax_, gather, store, me, team, per_part);
         barrier.wait();
         if (me == 0) {
-          top_up(parts_, store, per_part.back());
+          top_up(parts_, relax_, store, per_part.back());
           std::swap(buffers[0], buffers[1]);  // every slot was stored: the sweep's result
           more = after_sweep(take_total(per_part));
           if (more) top_down(parts_, cosine_, gather);
@@ -563,9 +593,32 @@ class Sweeper {
   bool cosine_;
   bool grey_;
   std::optional<GatherMatrix> matrix_;
+  std::vector<Rgb> older_;  // Relaxation::older
+  Relaxation relax_;
   std::array<std::vector<Rgb>, 2> colour_;
   std::array<std::vector<double>, 2> channel0_;
 };
+
+// How far an accelerated change may rise over the smallest before the acceleration is
+// given up (a change growing by 1.5 a sweep gets there in five).
+constexpr double kGiveUp = 8;
+
+// The asymptotic rate of Chebyshev acceleration over [-a, a], per sweep.
+double chebyshev_rate(double a) { return a / (1 + std::sqrt(1 - a * a)); }
+
+// Whether Chebyshev over [-a, a] converges more slowly than it would with the spectral
+// radius at a: after `since` accelerated sweeps whose last two changes fell by `q1` and
+// `q0`. An eigenvalue l above a falls by (x + sqrt(x^2 - 1)) r per sweep, x = l / a and
+// r = chebyshev_rate(a); so the mean y = sqrt(q0 q1) / r gives x = (y + 1 / y) / 2.
+// Returns l when it is over 2 % above a (the interval to start again with), else 0. The
+// first sweeps of a run are left alone: their omegas are still far from the limit.
+double underestimated(double a, int since, double q1, double q0) {
+  if (since < 4 || !(q0 > 0) || !(q1 > 0)) return 0;
+  const double y = std::sqrt(q0 * q1) / chebyshev_rate(a);
+  if (!(y > 1.05) || !(y < 1 / chebyshev_rate(a))) return 0;
+  const double l = std::min(a * (y + 1 / y) / 2, kMaxContraction);
+  return l > 1.02 * a ? l : 0;
+}
 
 // The largest change of a sweep relative to the largest radiosity.
 double relative(const SweepChange& c) { return c.largest > 0 ? c.change / c.largest : 0.0; }
@@ -583,7 +636,7 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
   in_team(p.parts, [&](int me, int team, TeamBarrier& barrier) {
     if (me == 0) top_down(p, cosine, gather);
     barrier.wait();
-    subtrees(p, cosine, false, gather, none, me, team, per_part);
+    subtrees(p, cosine, false, Relaxation{}, gather, none, me, team, per_part);
   });
 }
 
@@ -599,12 +652,27 @@ double propagation_sweep(const std::vector<Element*>& elements, int threads, Clu
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance, int max_sweeps,
                             int threads, ClusterReceiver mode, bool grey,
-                            const std::function<void(int sweeps, double change)>& on_sweep) {
+                            const std::function<void(int sweeps, double change)>& on_sweep,
+                            double contraction) {
   PropagationResult r;
   if (max_sweeps < 1 || interrupted()) return r;
   Sweeper sweeper(elements, threads, mode, grey);  // links do not change here
-  double previous = 0, previous_change = 0;
+  double previous = 0, previous_change = 0, previous_q = 0;
   int growing = 0;
+  // Chebyshev acceleration over [-a, a], a the plain sweeps' contraction (given, or
+  // measured here): sweep `since` of the accelerated run uses omega.
+  double a = std::min(contraction, kMaxContraction);
+  int since = 0;
+  double omega = 1, best = std::numeric_limits<double>::infinity();
+  bool given_up = false;
+  const auto accelerate = [&] {
+    r.contraction = a;
+    since = 0;
+    omega = 1;
+    best = std::numeric_limits<double>::infinity();
+    sweeper.relax(omega);
+  };
+  if (a > 0) accelerate();
   // After each sweep: whether to sweep again.
   sweeper.run([&](const SweepChange& s) {
     const double c = relative(s);
@@ -628,13 +696,46 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
       r.diverged = true;
       return false;
     }
+    const double observed = previous > 0 ? c / previous : 0.0;
     if (r.sweeps >= 2 && previous > 0) {
-      const double q = c / previous;
+      // Accelerated, the changes can fall unevenly: never count on more than the
+      // method's own rate.
+      const double q = a > 0 ? std::max(observed, chebyshev_rate(a)) : observed;
       if (q < 1 && c * q / (1 - q) < tolerance) {
         r.converged = true;
         return false;
       }
     }
+    // The acceleration judges the change itself (the relative change of a growing B
+    // falls even when the sweeps diverge).
+    const double shrink = previous_change > 0 ? s.change / previous_change : 0.0;
+    if (a > 0) {
+      // A change kGiveUp times the smallest since the acceleration began: the spectrum
+      // is not what it assumes (far from real); plain sweeps from here on. (Its first
+      // omegas overshoot: the change may double for a sweep or two while the error falls.)
+      best = std::min(best, s.change);
+      if (s.change > kGiveUp * best) {
+        sweeper.plain();
+        a = 0;
+        r.contraction = 0;
+        r.accelerated = false;
+        given_up = true;
+      } else if (const double found = underestimated(a, since, shrink, previous_q); found > 0) {
+        a = found;  // start again from here with the larger interval
+        accelerate();
+      } else {
+        ++since;
+        omega = since == 1 ? 1 / (1 - a * a / 2) : 1 / (1 - a * a * omega / 4);
+        sweeper.relax(omega);
+        r.accelerated = true;
+      }
+    } else if (contraction >= 0 && !given_up && r.sweeps >= kPlainSweeps && previous_q > 0 &&
+               shrink <= kMaxContraction && std::abs(shrink - previous_q) <= 0.1 * shrink) {
+      // The plain sweeps' contraction has settled: their spectral radius.
+      a = std::min(std::max(shrink, previous_q), kMaxContraction);
+      accelerate();
+    }
+    previous_q = shrink;
     previous = c;
     previous_change = s.change;
     return r.sweeps < max_sweeps && !interrupted();

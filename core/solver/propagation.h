@@ -1,5 +1,5 @@
 // Propagation: gather over the links, then push-pull through the hierarchy,
-// repeated (Jacobi) until the radiosity stops changing.
+// repeated (Jacobi, accelerated) until the radiosity stops changing.
 //
 // Gather:    g_e = sum over e's links of transport * B_source   (irradiance),
 //            divided by e's open fraction w_e (core/transport/open_fraction.h); with isotropic
@@ -8,6 +8,20 @@
 // Push:      H_e = H_parent + g_e                                (top-down)
 // Leaf:      B'  = E + rho * s * H      (s: row-sum correction, 1 when off)
 // Pull:      B'_e = open-area-weighted mean of the children's B'  (bottom-up)
+//
+// Acceleration: the plain sweep is an affine map B_{k+1} = G(B_k) whose linear part is
+// close to rho K, whose eigenvalues are real (reciprocity: rho K is similar to a
+// symmetric matrix) and within the spectral radius a < 1 of 0. Chebyshev's
+// semi-iterative method over [-a, a] then converges at a / (1 + sqrt(1 - a^2)) per
+// sweep instead of a (0.5 instead of 0.8, a third of the sweeps; any real spectrum in
+// (-1, 1) still converges, only more slowly, when a is misjudged):
+//            B_{k+1} = B_{k-1} + omega_{k+1} (G(B_k) - B_{k-1}),
+//            omega_1 = 1, omega_2 = 1 / (1 - a^2 / 2), omega_{k+1} = 1 / (1 - a^2 omega_k / 4),
+// applied at the leaves (every parent is linear in its leaves). a is the contraction of
+// the plain sweeps once it has settled (two ratios within 10 % after kPlainSweeps), or the
+// one a run's earlier propagation measured. Changes that grow back (twice the smallest,
+// twice running) switch back to plain sweeps. The result is a deterministic function of
+// the links, as before: the changes are maxima, the same on any number of threads.
 //
 // Stopping: with c_k the largest change of a sweep relative to the largest
 // radiosity and q the observed contraction c_k / c_{k-1}, the remaining change of
@@ -32,7 +46,16 @@ struct PropagationResult {
   /// sweeps, or a value overflowed: rho K's spectral radius is 1 or more (row sums
   /// above 1).
   bool diverged = false;
+  /// The contraction a the acceleration assumed (0: plain sweeps throughout); pass it to
+  /// the next propagation of the same scene.
+  double contraction = 0;
+  bool accelerated = false;  ///< the last sweep was accelerated
 };
+
+/// Plain sweeps before the contraction is judged settled.
+inline constexpr int kPlainSweeps = 4;
+/// The largest contraction the acceleration assumes (nearer 1, the omegas approach 2).
+inline constexpr double kMaxContraction = 0.995;
 
 // ClusterReceiver (how a cluster receiver hands what it gathers to its members) is an
 // option: core/config/modes.h.
@@ -54,10 +77,13 @@ void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode
 /// gather three channels.
 /// `on_sweep`, when given, is called on the calling thread after each sweep with the
 /// sweeps done and the last relative change (the progress line).
+/// `contraction`: an earlier propagation's PropagationResult::contraction, to accelerate
+/// from the first sweep; 0 to measure it here; negative for plain sweeps only.
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance, int max_sweeps,
                             int threads, ClusterReceiver mode = ClusterReceiver::Isotropic,
                             bool grey = false,
-                            const std::function<void(int sweeps, double change)>& on_sweep = {});
+                            const std::function<void(int sweeps, double change)>& on_sweep = {},
+                            double contraction = 0);
 
 /// One Jacobi sweep (gather + push-pull), B <- B'; returns the relative change.
 double propagation_sweep(const std::vector<Element*>& elements, int threads,

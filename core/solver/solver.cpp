@@ -105,6 +105,9 @@ struct RunState {
   double reload_s = 0;  ///< building this iteration's tasks (counted in its refinement)
   int max_sweeps = 0;
   bool grey = false;
+  /// The propagation's measured contraction (PropagationResult::contraction), handed to
+  /// the next iteration's propagation so it accelerates from its first sweep.
+  double contraction = 0;
 };
 
 }  // namespace
@@ -409,8 +412,9 @@ void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<E
   const auto sweeps_start = Clock::now();
   const PropagationResult pr = propagate(
       elements, last ? o.gather_tolerance : std::max(o.gather_tolerance, kIntermediateTolerance),
-      r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep);
+      r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep, r.contraction);
   is.sweeps_s = seconds_since(sweeps_start);
+  r.contraction = pr.contraction;
   throw_if_interrupted();
   is.gather_sweeps = pr.sweeps;
   is.max_change = pr.last_change;
