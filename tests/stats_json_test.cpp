@@ -33,6 +33,7 @@ RunStats sample_stats() {
     it.rays_skipped = 250;
     it.gather_sweeps = 7;
     it.max_change = 1e-7;
+    it.contraction = 0.7;
     it.refiners = {RefinerStats{150, 15, 12, 0.4, 0.01, 0.001, 500},
                    RefinerStats{150, 16, 11, 0.5, 0.04, 0.002, 500}};
     it.refiners[1].cpu_s = 0.45;
@@ -87,6 +88,7 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"rays_skipped", Kind::Integer},
       {"gather_sweeps", Kind::Integer},
       {"max_change", Kind::Number},
+      {"contraction", Kind::Number},
       {"peak_parallelism", Kind::Integer},
       {"bytes_per_link", Kind::Number},
       {"bytes_per_element", Kind::Number},

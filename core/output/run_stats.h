@@ -87,6 +87,9 @@ struct IterationStats {
   std::uint64_t rays_skipped = 0;  ///< visibility queries answered without rays
   int gather_sweeps = 0;
   double max_change = 0;  ///< relative radiosity change of the last sweep
+  /// The contraction the accelerated sweeps assumed (core/solver/propagation.h); 0 when
+  /// every sweep was plain.
+  double contraction = 0;
   /// Leaf row sums (total transport gathered, see core/solver/row_sums.h), uncorrected.
   double row_sum_min = 0, row_sum_max = 0, row_sum_mean = 0;
   double row_sum_within_band = 0;       ///< open-area share within 1 +- kRowSumBand

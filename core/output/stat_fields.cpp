@@ -68,6 +68,7 @@ const std::vector<IterationField>& iteration_fields() {
       {"rays_skipped", "rays_skipped", "count", HRAD_COUNT(it.rays_skipped)},
       {"gather_sweeps", "gather_sweeps", "count", HRAD_COUNT(it.gather_sweeps)},
       {"max_change", "max_change", "", HRAD_REAL(it.max_change)},
+      {"contraction", "contraction", "", HRAD_REAL(it.contraction)},
       {"open/area_fraction", "open_area_fraction", "", HRAD_REAL(it.open_area_fraction)},
       // Columns after this line were in stats.json only before this table.
       {"load_s", "load_s", "s", HRAD_REAL(it.load_s)},

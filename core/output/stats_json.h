@@ -16,7 +16,7 @@ namespace hrad {
 
 /// {"iterations": [ {iteration, refine_wall_s, refine_cpu_s, propagate_wall_s,
 ///   links_created, links, elements, bytes{...}, peak_rss_bytes, tasks, scheduler_ops,
-///   lock_wait_s{...}, idle_s, rays_cast, rays_skipped, gather_sweeps, max_change}, ...],
+///   lock_wait_s{...}, idle_s, rays_cast, rays_skipped, gather_sweeps, max_change, contraction}, ...],
 ///  "totals": {wall_s, refine_wall_s, refine_cpu_s, links, elements, rays_cast,
 ///   rays_skipped, peak_rss_bytes},
 ///  "warnings": [...]}

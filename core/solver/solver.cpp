@@ -415,6 +415,7 @@ void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<E
       r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep, r.contraction);
   is.sweeps_s = seconds_since(sweeps_start);
   r.contraction = pr.contraction;
+  is.contraction = pr.accelerated ? pr.contraction : 0.0;
   throw_if_interrupted();
   is.gather_sweeps = pr.sweeps;
   is.max_change = pr.last_change;
