@@ -19,9 +19,11 @@
 //            omega_1 = 1, omega_2 = 1 / (1 - a^2 / 2), omega_{k+1} = 1 / (1 - a^2 omega_k / 4),
 // applied at the leaves (every parent is linear in its leaves). a is the contraction of
 // the plain sweeps once it has settled (two ratios within 10 % after kPlainSweeps), or the
-// one a run's earlier propagation measured. Changes that grow back (twice the smallest,
-// twice running) switch back to plain sweeps. The result is a deterministic function of
-// the links, as before: the changes are maxima, the same on any number of threads.
+// one a run's earlier propagation measured. Accelerated sweeps that fall more slowly than
+// a allows show an eigenvalue above a: the run starts again with it. A change that grows
+// to 8 times the smallest since the start (eigenvalues far from real) switches back to
+// plain sweeps for good. The result is a deterministic function of the links, as before:
+// the changes are maxima, the same on any number of threads.
 //
 // Stopping: with c_k the largest change of a sweep relative to the largest
 // radiosity and q the observed contraction c_k / c_{k-1}, the remaining change of
