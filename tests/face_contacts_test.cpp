@@ -3,6 +3,7 @@
 #include "core/raycast/face_contacts.h"
 #include "core/raycast/face_twins.h"
 #include "core/raycast/ray_scene.h"
+#include "tests/polygon_soup.h"
 
 #include <gtest/gtest.h>
 
@@ -13,21 +14,8 @@
 namespace hrad {
 namespace {
 
-// Polygons added one by one as vertex lists.
-struct Soup {
-  std::vector<Vec3> vertices;
-  std::vector<std::uint32_t> indices;
-  std::vector<PolygonRange> polygons;
-
-  std::uint32_t add(const std::vector<Vec3>& corners) {
-    polygons.push_back(
-        {static_cast<std::uint32_t>(indices.size()), static_cast<std::uint32_t>(corners.size())});
-    for (const Vec3& c : corners) {
-      indices.push_back(static_cast<std::uint32_t>(vertices.size()));
-      vertices.push_back(c);
-    }
-    return static_cast<std::uint32_t>(polygons.size() - 1);
-  }
+// The test soup with an axis-aligned square builder and the contact table.
+struct Soup : test::Soup {
   // An axis-aligned square at height z, facing up (+z) or down.
   std::uint32_t square(double x0, double y0, double size, double z, bool up) {
     std::vector<Vec3> c = {
@@ -37,7 +25,7 @@ struct Soup {
   }
   std::vector<std::uint8_t> contacts(double tolerance = 1e-4,
                                      std::vector<std::uint32_t> twins = {}) const {
-    return find_face_contacts(vertices, indices, polygons, twins, tolerance);
+    return find_face_contacts(vertices, indices, polys, twins, tolerance);
   }
 };
 
@@ -86,7 +74,7 @@ TEST(FaceContacts, TwinsDoNotCount) {
   Soup s;
   const auto front = s.square(0, 0, 1, 0, true);
   const auto back = s.square(0, 0, 1, 0, false);
-  std::vector<std::uint32_t> twins = find_twins(s.vertices, s.indices, s.polygons);
+  std::vector<std::uint32_t> twins = find_twins(s.vertices, s.indices, s.polys);
   ASSERT_EQ(twins[front], back);
   auto c = s.contacts(1e-4, twins);
   EXPECT_EQ(c[front], 0);
@@ -94,7 +82,7 @@ TEST(FaceContacts, TwinsDoNotCount) {
   EXPECT_EQ(s.contacts()[front], 1);  // without the twin table they are two faces
 
   const auto other = s.square(0.5, 0.5, 1, 0, false);  // a second sheet against the front
-  twins = find_twins(s.vertices, s.indices, s.polygons);
+  twins = find_twins(s.vertices, s.indices, s.polys);
   c = s.contacts(1e-4, twins);
   EXPECT_EQ(c[front], 1);
   EXPECT_EQ(c[other], 1);
@@ -141,7 +129,7 @@ TEST(FaceContacts, RaySceneLiesAgainst) {
   const auto floor = s.square(-5, -5, 10, 0, true);
   const auto bottom = s.square(0, 0, 1, 0, false);
   const auto top = s.square(0, 0, 1, 1, true);
-  const RayScene rays(s.vertices, s.indices, s.polygons);
+  const RayScene rays(s.vertices, s.indices, s.polys);
   EXPECT_TRUE(rays.lies_against(floor));
   EXPECT_TRUE(rays.lies_against(bottom));
   EXPECT_FALSE(rays.lies_against(top));

@@ -1,4 +1,5 @@
 #include "core/raycast/ray_scene.h"
+#include "tests/polygon_soup.h"
 
 #include "core/scene/scene.h"
 
@@ -13,30 +14,7 @@
 namespace hrad {
 namespace {
 
-/// A polygon soup built up in tests: vertices, indices and ranges as RayScene takes them.
-struct Soup {
-  std::vector<Vec3> vertices;
-  std::vector<std::uint32_t> indices;
-  std::vector<PolygonRange> polys;
-
-  std::uint32_t add(std::initializer_list<Vec3> corners) {
-    PolygonRange r{static_cast<std::uint32_t>(indices.size()),
-                   static_cast<std::uint32_t>(corners.size())};
-    for (const Vec3& c : corners) {
-      indices.push_back(static_cast<std::uint32_t>(vertices.size()));
-      vertices.push_back(c);
-    }
-    polys.push_back(r);
-    return static_cast<std::uint32_t>(polys.size() - 1);
-  }
-  /// The same soup under p -> s * p + shift.
-  [[nodiscard]] Soup transformed(double s, const Vec3& shift) const {
-    Soup t = *this;
-    for (Vec3& v : t.vertices) v = s * v + shift;
-    return t;
-  }
-  [[nodiscard]] RayScene build() const { return RayScene(vertices, indices, polys); }
-};
+using test::Soup;
 
 /// Unit square in z = 0 (a quad), and a triangle in z = -1 further along -z.
 Soup square_and_triangle() {
