@@ -6,6 +6,7 @@
 #include "core/parallel/trace.h"
 #include "experiments/sim/lock_calibration.h"
 #include "experiments/sim/simulator.h"
+#include "tests/sim_config.h"
 
 #include <gtest/gtest.h>
 
@@ -28,14 +29,7 @@ TaskGraph roots(int n, std::uint32_t duration_ns) {
   return build_task_graph(records);
 }
 
-SimConfig config(Policy policy, int procs, int block, const CostModel& costs) {
-  SimConfig c;
-  c.policy = policy;
-  c.procs = procs;
-  c.block_size = block;
-  c.costs = costs;
-  return c;
-}
+using test::config;
 
 TEST(SimContention, SaturatedLockPassesOncePerHoldPlusHandoff) {
   // Zero-duration tasks, one per take: every processor always waits for the lock, so

@@ -7,6 +7,7 @@
 #include "core/parallel/trace.h"
 #include "experiments/sim/simulator.h"
 #include "schedulers/scheduler.h"
+#include "tests/sim_config.h"
 
 #include <gtest/gtest.h>
 
@@ -66,14 +67,7 @@ class TraceBuilder {
   std::uint64_t roots_ = 0, seq_ = 0;
 };
 
-SimConfig config(Policy policy, int procs, int block = 1, CostModel costs = {}) {
-  SimConfig c;
-  c.policy = policy;
-  c.procs = procs;
-  c.block_size = block;
-  c.costs = costs;
-  return c;
-}
+using test::config;
 
 std::vector<TraceRecord> chain(int n, std::uint32_t d) {
   TraceBuilder b;
