@@ -45,15 +45,15 @@ struct RefineLimits {
   bool independent_estimates = false;
 };
 
+/// A stage's initial tasks: reload_links fills every field of every task in parallel,
+/// so growing the list writes nothing (core/base/uninitialized_allocator.h).
+using TaskList = std::vector<Task, UninitializedAllocator<Task>>;
+
 /// What one refinement stage did. The driver's figures are inherited
 /// (StageWorkerCounters: tasks, busy, idle, load and CPU time, takes, submits, binding;
 /// its finish_s is the time to compact the stage's link lists,
 /// core/hierarchy/link_list.h); in the total they are summed over refiners, finish_s
 /// the longest, and bound / bind_warning unused. The rule's own follow.
-/// A stage's initial tasks: reload_links fills every field of every task in parallel,
-/// so growing the list writes nothing (core/base/uninitialized_allocator.h).
-using TaskList = std::vector<Task, UninitializedAllocator<Task>>;
-
 struct RefineCounters : StageWorkerCounters {
   std::uint64_t links_created = 0;  ///< accepted links that were not links before
   std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
