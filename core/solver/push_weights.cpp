@@ -1,5 +1,6 @@
 #include "core/solver/push_weights.h"
 
+#include "core/parallel/parallel_any.h"
 #include "core/transport/open_fraction.h"
 #include "core/transport/transport.h"
 
@@ -134,11 +135,8 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
 
 std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const Transport& transport,
                                   int threads, PushVisibility mode) {
-  bool any_light = false;
-  const auto count = static_cast<std::ptrdiff_t>(elements.size());
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(|| : any_light)
-  for (std::ptrdiff_t i = 0; i < count; ++i)
-    any_light = any_light || (elements[static_cast<std::size_t>(i)]->B > 0).any();
+  const bool any_light =
+      parallel_any(elements, threads, [](const Element* e) { return (e->B > 0).any(); });
   threads_ = threads;
   parents_.clear();
   offset_.assign(1, 0);

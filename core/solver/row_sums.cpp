@@ -2,6 +2,7 @@
 
 #include "core/base/hash.h"
 #include "core/hierarchy/hierarchy.h"
+#include "core/parallel/parallel_any.h"
 #include "core/raycast/ray_scene.h"
 #include "core/solver/propagation.h"
 #include "core/transport/open_fraction.h"
@@ -60,13 +61,9 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
   const auto unit = [](const Link& l) -> Rgb { return Rgb::Constant(l.transport()); };
   // First per unit of area, as the links give it, then per unit of open area, as the
   // propagation gathers (core/transport/open_fraction.h); the same when nothing is closed in.
+  const bool closed_in =
+      parallel_any(elements, threads, [](const Element* e) { return e->open >= 0 && e->open < 1; });
   const auto count = static_cast<std::ptrdiff_t>(elements.size());
-  bool closed_in = false;
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(|| : closed_in)
-  for (std::ptrdiff_t i = 0; i < count; ++i) {
-    const Element* e = elements[static_cast<std::size_t>(i)];
-    closed_in = closed_in || (e->open >= 0 && e->open < 1);
-  }
   gather_and_push(elements, receiver, threads, unit, false);
   std::vector<double> plain(elements.size());
 #pragma omp parallel for num_threads(threads) schedule(static)
