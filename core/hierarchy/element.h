@@ -42,10 +42,12 @@ struct Element {
   std::uint32_t face_end = 0;  ///< clusters: one past the last in face order
   std::uint32_t material = 0;  ///< surfaces only
   /// Leaves: factor applied to the gathered irradiance (row-sum correction, see
-  /// core/solver/row_sums.h; 1 when off). escape: fraction of the hemisphere above the
-  /// element that sees no geometry, estimated by rays (negative until estimated).
+  /// core/solver/row_sums.h; 1 when off).
   float gather_scale = 1;
-  float escape = -1;
+  /// The element's position in the list the last propagation was given (its gather
+  /// matrix's row and value slot, core/solver/propagation.cpp); scratch elsewhere. Near
+  /// `kind`: the matrix's build reads both from every link's source.
+  std::uint32_t index = 0;
   /// Open fraction in [0, 1]: the share of the area that is not closed in by a
   /// contact and so can exchange light (core/transport/open_fraction.h); negative until set.
   float open = -1;
@@ -72,9 +74,9 @@ struct Element {
   LinkList links;  ///< links where this element is the receiver (core/hierarchy/link_list.h)
   /// Clusters: the propagation's directional state (below); allocated by it.
   std::unique_ptr<ClusterLight> light;
-  /// The element's position in the list the last propagation was given (its gather
-  /// matrix's row and value slot, core/solver/propagation.cpp); scratch elsewhere.
-  std::uint32_t index = 0;
+  /// Fraction of the hemisphere above the element that sees no geometry, estimated by
+  /// rays (row_sums = normalize; negative until estimated).
+  float escape = -1;
 
   [[nodiscard]] bool is_cluster() const { return kind == ElementKind::Cluster; }
   [[nodiscard]] std::span<const Vec3> corners() const {

@@ -377,29 +377,48 @@ class GatherMatrix {
       }
     }
     slots_ = slot;
-    row_.assign(first_row_.back() + 1, 0);
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-      const Element& e = *elements[static_cast<std::size_t>(i)];
-      const std::size_t r = first_row_[static_cast<std::size_t>(i)];
-      for (const Link& l : e.links)
-        entries(e, l, [&](std::size_t k, std::uint32_t, double) { ++row_[r + k + 1]; });
-    }
-    for (std::size_t r = 0; r + 1 < row_.size(); ++r) row_[r + 1] += row_[r];
-    col_.resize(row_.back());
-    weight_.resize(row_.back());
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 256)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-      const Element& e = *elements[static_cast<std::size_t>(i)];
-      const std::size_t r = first_row_[static_cast<std::size_t>(i)];
-      std::array<std::size_t, 6> at{};
-      for (std::size_t k = 0; k < rows_of(e); ++k) at[k] = row_[r + k];
-      for (const Link& l : e.links)
-        entries(e, l, [&](std::size_t k, std::uint32_t c, double w) {
-          col_[at[k]] = c;
-          weight_[at[k]] = static_cast<float>(w);
-          ++at[k];
-        });
+    // One pass over the links (each reads its source's element, a cache miss): a chunk
+    // of elements collects its entries row by row in a thread's scratch lists, then
+    // keeps exact-size copies. (Counting the entries first, to fill one array, read
+    // every source twice.)
+    chunks_.resize((elements.size() + kChunk - 1) / kChunk);
+    const auto chunks = static_cast<std::ptrdiff_t>(chunks_.size());
+#pragma omp parallel num_threads(threads)
+    {
+      std::vector<std::vector<Entry>> rows;  // scratch: one chunk's rows
+#pragma omp for schedule(dynamic, 1)
+      for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+        const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
+        const std::size_t end = std::min(begin + kChunk, elements.size());
+        const std::size_t first = first_row_[begin];
+        const std::size_t count = first_row_[end] - first;
+        if (rows.size() < count) rows.resize(count);
+        for (std::size_t r = 0; r < count; ++r) rows[r].clear();
+        for (std::size_t i = begin; i < end; ++i) {
+          const Element& e = *elements[i];
+          std::vector<Entry>* own = rows.data() + (first_row_[i] - first);
+          // The sources' lines are asked for kAhead links before they are read.
+          auto ahead = e.links.begin();
+          for (int a = 0; a < kAhead && ahead != e.links.end(); ++a, ++ahead)
+            __builtin_prefetch(ahead->source);
+          for (const Link& l : e.links) {
+            if (ahead != e.links.end()) {
+              __builtin_prefetch(ahead->source);
+              ++ahead;
+            }
+            entries(e, l, [&](std::size_t k, std::uint32_t slot_of, double w) {
+              own[k].push_back(Entry{slot_of, static_cast<float>(w)});
+            });
+          }
+        }
+        Chunk& chunk = chunks_[static_cast<std::size_t>(c)];
+        chunk.row.assign(count + 1, 0);
+        for (std::size_t r = 0; r < count; ++r)
+          chunk.row[r + 1] = chunk.row[r] + static_cast<std::uint32_t>(rows[r].size());
+        chunk.entries.reserve(chunk.row.back());
+        for (std::size_t r = 0; r < count; ++r)
+          chunk.entries.insert(chunk.entries.end(), rows[r].begin(), rows[r].end());
+      }
     }
   }
 
@@ -423,9 +442,11 @@ class GatherMatrix {
   template <class V>
   [[nodiscard]] V gather(const Element& e, const std::vector<V>& values, std::size_t k = 0) const {
     V g = channels<V>(Rgb::Zero());
-    const std::size_t r = first_row_[e.index] + k;
-    for (std::size_t j = row_[r]; j < row_[r + 1]; ++j)
-      g += static_cast<double>(weight_[j]) * values[col_[j]];
+    const Chunk& chunk = chunks_[e.index / kChunk];
+    const std::size_t r = first_row_[e.index] + k - first_row_[e.index / kChunk * kChunk];
+    const Entry* entry = chunk.entries.data();
+    for (std::size_t j = chunk.row[r]; j < chunk.row[r + 1]; ++j)
+      g += static_cast<double>(entry[j].weight) * values[entry[j].slot];
     return g;
   }
 
@@ -483,12 +504,22 @@ class GatherMatrix {
              t * part[static_cast<std::size_t>(a)] / sum);
   }
 
+  struct Entry {
+    std::uint32_t slot;  // of the value it weighs
+    float weight;
+  };
+  // The rows of kChunk consecutive elements, the chunk's first row being its row 0.
+  struct Chunk {
+    std::vector<std::uint32_t> row;  // entries of row r: entries[row[r] .. row[r + 1])
+    std::vector<Entry> entries;
+  };
+  static constexpr std::size_t kChunk = 1024;
+  static constexpr int kAhead = 8;
+
   bool cosine_;
   std::vector<std::size_t> first_row_;  // rows of elements[i]: first_row_[i] .. first_row_[i + 1]
-  std::vector<std::size_t> row_;        // entries of row r: row_[r] .. row_[r + 1]
-  std::vector<std::uint32_t> col_;      // value slot of each entry
-  std::vector<float> weight_;
-  std::vector<std::uint32_t> axis_;  // per element: its first axis slot (clusters)
+  std::vector<Chunk> chunks_;           // elements[i]'s rows in chunks_[i / kChunk]
+  std::vector<std::uint32_t> axis_;     // per element: its first axis slot (clusters)
   std::size_t slots_ = 0;
 };
 

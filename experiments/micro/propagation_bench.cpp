@@ -1,12 +1,16 @@
-// Microbenchmark of the propagation's sweeps (core/solver/propagation.h) on builtin:office
-// refined once at the default settings (one refinement stage, 1 thread; about
-// 300 k links). Each iteration runs 10 sweeps; the rate is per link and sweep.
-//  Isotropic: the default, whose gather streams over a matrix built once per
-//             propagation (the build is inside the timed region);
-//  Cosine:    cluster_receiver = cosine, which still reads every link's source
-//             element (and a cluster source's directional sums) in every sweep.
-// The two back the claim that the gather matrix made a sweep several times cheaper
-// per link than reading the sources through the links.
+// Microbenchmarks of the propagation (core/solver/propagation.h) on builtin:office and
+// builtin:lab refined once at the default settings (one refinement stage, 1 thread;
+// about 300 k and 1 M links).
+//  SweepIsotropic: 10 sweeps at the default, whose gather streams over a matrix built
+//             once per propagation (the build is inside the timed region); the rate
+//             is per link and sweep;
+//  SweepCosine: cluster_receiver = cosine, which still reads every link's source
+//             element (and a cluster source's directional sums) in every sweep;
+//  OneSweep:  a propagation of one sweep: mostly the matrix's build (per link);
+//  RowSums:   apply_row_sums in the default mode (per link).
+// Isotropic against Cosine backs the claim that the gather matrix made a sweep several
+// times cheaper per link than reading the sources through the links; OneSweep and
+// RowSums the costs a propagation pays once per iteration before its sweeps.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
@@ -20,6 +24,7 @@
 #include "core/solver/propagation.h"
 #include "core/solver/push_weights.h"
 #include "core/solver/refiner.h"
+#include "core/solver/row_sums.h"
 #include "core/transport/open_fraction.h"
 #include "core/transport/transport.h"
 #include "oracles/oracle.h"
@@ -30,14 +35,14 @@ namespace {
 using namespace hrad;
 
 struct Refined {
-  Scene scene = make_builtin("builtin:office");
+  Scene scene;
   RayScene rays = RayScene::from_scene(scene);
   Hierarchy hierarchy{scene, 1};
   Transport transport{hierarchy, rays, 4, 1};
   std::vector<Element*> elements;
   std::size_t links = 0;
 
-  Refined() {
+  explicit Refined(const char* name) : scene(make_builtin(name)) {
     const double power = scene.max_channel_emitted_power(), area = scene.total_area();
     const auto oracle = make_oracle("bf");
     LockPool element_locks(2, 1), link_locks(2, 1);
@@ -53,27 +58,55 @@ struct Refined {
   }
 };
 
-const Refined& office() {
-  static const Refined r;
-  return r;
+// range(0): 0 the office, 1 the lab.
+const Refined& refined(std::int64_t which) {
+  if (which == 0) {
+    static const Refined office("builtin:office");
+    return office;
+  }
+  static const Refined lab("builtin:lab");
+  return lab;
 }
 
-void sweeps(benchmark::State& state, ClusterReceiver mode) {
-  const Refined& r = office();
-  constexpr int kSweeps = 10;
-  for (auto _ : state) {
-    const PropagationResult p = propagate(r.elements, 0.0, kSweeps, 1, mode, false);
-    benchmark::DoNotOptimize(p.last_change);
-  }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kSweeps *
+void per_link(benchmark::State& state, const Refined& r, int passes) {
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * passes *
                           static_cast<std::int64_t>(r.links));
   state.counters["links"] = static_cast<double>(r.links);
   state.counters["elements"] = static_cast<double>(r.elements.size());
 }
 
-void BM_PropagationSweepIsotropic(benchmark::State& s) { sweeps(s, ClusterReceiver::Isotropic); }
-void BM_PropagationSweepCosine(benchmark::State& s) { sweeps(s, ClusterReceiver::Cosine); }
-BENCHMARK(BM_PropagationSweepIsotropic)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PropagationSweepCosine)->Unit(benchmark::kMillisecond);
+void sweeps(benchmark::State& state, ClusterReceiver mode, int count) {
+  const Refined& r = refined(state.range(0));
+  for (auto _ : state) {
+    // From the emission each time: from a converged radiosity the first sweep finds
+    // no change and stops.
+    state.PauseTiming();
+    for (Element* e : r.elements) e->B = e->emission;
+    state.ResumeTiming();
+    const PropagationResult p = propagate(r.elements, 0.0, count, 1, mode, false);
+    if (p.sweeps != count) state.SkipWithError("stopped early");
+    benchmark::DoNotOptimize(p.last_change);
+  }
+  per_link(state, r, count);
+}
+
+void BM_PropagationSweepIsotropic(benchmark::State& s) {
+  sweeps(s, ClusterReceiver::Isotropic, 10);
+}
+void BM_PropagationSweepCosine(benchmark::State& s) { sweeps(s, ClusterReceiver::Cosine, 10); }
+void BM_PropagationOneSweep(benchmark::State& s) { sweeps(s, ClusterReceiver::Isotropic, 1); }
+void BM_PropagationRowSums(benchmark::State& state) {
+  const Refined& r = refined(state.range(0));
+  for (auto _ : state) {
+    const RowSumStats st = apply_row_sums(r.elements, RowSumMode::Keep, ClusterReceiver::Isotropic,
+                                          r.hierarchy, r.rays, 0, 1, 1);
+    benchmark::DoNotOptimize(st.area_mean);
+  }
+  per_link(state, r, 1);
+}
+BENCHMARK(BM_PropagationSweepIsotropic)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PropagationSweepCosine)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PropagationOneSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PropagationRowSums)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
