@@ -36,7 +36,8 @@ struct ReferenceArgs {
   /// The scene's `sides` and `segments` keys, as `hrad solve` takes them (the reference
   /// must trace the scene the solver solves).
   SolverOptions scene_keys;
-  std::string sides = "auto";  ///< --sides as given, applied to scene_keys as the key is
+  std::string sides = "auto";           ///< --sides as given, applied to scene_keys as the key is
+  std::string emitter_sides = "front";  ///< --emitter-sides as given, likewise
   bool quiet = false;
 };
 
@@ -64,6 +65,7 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
     if (a.probes.empty() && a.random_probes == 0)
       throw std::invalid_argument("give the probe points: --probes FILE or --random-probes N");
     apply_option_value(a.scene_keys, "sides", a.sides, "--sides");
+    apply_option_value(a.scene_keys, "emitter_sides", a.emitter_sides, "--emitter-sides");
     validate_options(a.scene_keys);
     scene = load_scene(a.scene, scene_load_options(a.scene_keys));
     if (a.random_probes > 0) {
@@ -125,6 +127,7 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
          {{"name", scene.name},
           {"source", scene.source},
           {"sides", a.scene_keys.sides},
+          {"emitter_sides", a.scene_keys.emitter_sides},
           {"segments", a.scene_keys.segments},
           {"polygons", scene.polygon_count()},
           {"back_faces", scene.back_faces}}},
@@ -235,6 +238,8 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
                        h.substr(1), key, option_value_string(defaults, key));
   };
   sub->add_option("--sides", args->sides, scene_key_help("sides"))->type_name("MODE");
+  sub->add_option("--emitter-sides", args->emitter_sides, scene_key_help("emitter_sides"))
+      ->type_name("MODE");
   sub->add_option("--segments", args->scene_keys.segments, scene_key_help("segments"))
       ->type_name("N");
   sub->add_flag("--quiet", args->quiet, "No progress line and no summary");

@@ -70,6 +70,7 @@ constexpr OptionFlag kOptionFlags[] = {
     {"--placement", "placement", "POLICY"},
     {"--seed", "seed", "N"},
     {"--sides", "sides", "MODE"},
+    {"--emitter-sides", "emitter_sides", "MODE"},
     {"--segments", "segments", "N"},
     {"--shading", "shading", "MODE"},
     {"--exposure", "exposure", "STOPS"},

@@ -253,13 +253,42 @@ TEST(MgfSpectra, CmixOfSpectraWeighsByLuminance) {
   EXPECT_TRUE(s.is_grey());
 }
 
+TEST(MgfSpectra, SmallNegativeSamplesAreTakenAsZeroWithOneWarning) {
+  // Measured spectra carry noise around zero: a negative sample no larger than the
+  // peak is read as 0, exactly as if the file said 0, and the file's first such
+  // place is named once, with the count over all spectra.
+  const std::string pre = "m x =\n c\n";
+  const Scene clamped =
+      parse_mgf(pre + " cspec 400 700 1 -0.5 1\n rd 0.5\nm y =\n c\n cspec 400 700 2 1 -0.1\n" +
+                    " rd 0.5\n" + kTri,
+                "t.mgf");
+  const Scene zeros = parse_mgf(
+      pre + " cspec 400 700 1 0 1\n rd 0.5\nm y =\n c\n cspec 400 700 2 1 0\n rd 0.5\n" + kTri,
+      "t.mgf");
+  ASSERT_EQ(clamped.materials.size(), zeros.materials.size());
+  for (std::size_t i = 0; i < clamped.materials.size(); ++i)
+    EXPECT_EQ((clamped.materials[i].reflectance - zeros.materials[i].reflectance).abs().maxCoeff(),
+              0.0);
+  std::size_t warned = 0;
+  for (const std::string& w : clamped.warnings)
+    if (w.find("negative cspec") != std::string::npos) {
+      ++warned;
+      EXPECT_NE(w.find("t.mgf:3: 2 small negative cspec value(s) taken as zero"), std::string::npos)
+          << w;
+    }
+  EXPECT_EQ(warned, 1u);
+  for (const std::string& w : zeros.warnings) EXPECT_EQ(w.find("negative"), std::string::npos);
+}
+
 TEST(MgfSpectra, BadSpectraNameTheirLine) {
   const std::string pre = "m x =\n c\n";  // the colour is on line 3
   expect_error(pre + " cspec 400 700 1\n" + kTri, 3, "at least 2 values");
   expect_error(pre + " cspec 700 400 1 1\n" + kTri, 3, "need 0 < l_min < l_max");
   expect_error(pre + " cspec 500 500 1 1\n" + kTri, 3, "need 0 < l_min < l_max");
   expect_error(pre + " cspec 0 500 1 1\n" + kTri, 3, "need 0 < l_min < l_max");
-  expect_error(pre + " cspec 400 700 1 -0.5 1\n" + kTri, 3, "value 2 (-0.5) is negative");
+  expect_error(pre + " cspec 400 700 1 -1.5 1\n" + kTri, 3,
+               "value 2 (-1.5) is negative and larger in magnitude than the spectrum's largest");
+  expect_error(pre + " cspec 400 700 -1 -0.5 0\n" + kTri, 3, "value 1 (-1) is negative");
   expect_error(pre + " cspec 400 700 0 0 0\n" + kTri, 3, "no power between 360 and 830 nm");
   expect_error(pre + " cspec 900 1000 1 1\n" + kTri, 3, "no power between 360 and 830 nm");
   expect_error(pre + " cspec 400 700 1 x\n" + kTri, 3, "'x' is not a number");

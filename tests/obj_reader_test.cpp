@@ -430,11 +430,16 @@ TEST(LoaderDispatch, ObjByExtension) {
 
 TEST(LoaderDispatch, MgfByExtension) {
   // MGF materials are two-sided by default: the triangle gets a back face, which
-  // emits too; `sides = one` leaves it alone.
+  // emits only with `emitter_sides = both`; `sides = one` leaves it alone.
   const Scene s = load_scene(kData + "/loader_triangle.mgf");
   EXPECT_EQ(s.polygon_count(), 2u);
-  EXPECT_EQ(s.emitter_count(), 2u);
+  EXPECT_EQ(s.emitter_count(), 1u);
   EXPECT_EQ(s.back_faces, 1u);
+  EXPECT_EQ(s.dark_back_faces, 1u);
+  const Scene both =
+      load_scene(kData + "/loader_triangle.mgf", {Sides::Auto, 0, EmitterSides::Both});
+  EXPECT_EQ(both.emitter_count(), 2u);
+  EXPECT_EQ(both.emitter_sides, "both");
   EXPECT_EQ(s.sides, "auto");
   EXPECT_NEAR(s.face_normal(0).dot(s.face_normal(1)), -1.0, 1e-12);
   const Scene one = load_scene(kData + "/loader_triangle.mgf", {Sides::One, 0});

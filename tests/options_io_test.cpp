@@ -46,6 +46,7 @@ SolverOptions non_default_options() {
   o.max_memory_gb = 2.5;
   o.camera = "eye=1,2,3:look=0,0.5,-1e-3:fov=30";
   o.sides = Sides::One;
+  o.emitter_sides = EmitterSides::Both;
   o.segments = 24;
   o.shading = Shading::Flat;
   o.exposure = -2.5;
@@ -63,6 +64,7 @@ SolverOptions non_default_options() {
 void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.camera, b.camera);
   EXPECT_EQ(a.sides, b.sides);
+  EXPECT_EQ(a.emitter_sides, b.emitter_sides);
   EXPECT_EQ(a.segments, b.segments);
   EXPECT_EQ(a.scheduler, b.scheduler);
   EXPECT_EQ(a.block_size, b.block_size);
@@ -116,7 +118,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
       selected += chosen;
     }
   }
-  EXPECT_EQ(fields, 31u);  // one per field of SolverOptions but plugin_params
+  EXPECT_EQ(fields, 32u);  // one per field of SolverOptions but plugin_params
   std::size_t declared = 0;
   for (const std::string& n : scheduler_names()) declared += scheduler_params(n).size();
   for (const std::string& n : oracle_names()) declared += oracle_params(n).size();
@@ -139,7 +141,7 @@ TEST(OptionsIo, JsonRoundTripThroughText) {
 }
 
 // The round trip above proves something about a key only if its value there is not the
-// default: non_default_options changes every key of the table (29, one per field of
+// default: non_default_options changes every key of the table (32, one per field of
 // SolverOptions, TableHasEveryFieldOnceAndJsonHasEveryKey), and --set restores each.
 TEST(OptionsIo, RoundTripValuesDifferFromEveryDefault) {
   const SolverOptions d, o = non_default_options();
@@ -311,6 +313,7 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
       {"oracle=", "oracle"},
       {"sides=both", "sides"},
       {"sides=", "sides"},
+      {"emitter_sides=back", "emitter_sides"},
       {"segments=2", "segments"},
       {"segments=-1", "segments"},
       {"segments=4097", "segments"},

@@ -161,9 +161,53 @@ double square_form_factor() {
   return 4 * (2 * x / sx * std::atan(x / sx)) / (2 * std::numbers::pi);
 }
 
-TEST(TwoSidedPlate, BackSideGetsTheLightOfItsOwnSide) {
+// A two-sided emitter lights its front only by default (emitter_sides = front): the
+// plate's back face reflects, but the right cell has no light to reflect, and stays dark.
+TEST(TwoSidedPlate, AnEmittersBackFaceIsDarkByDefault) {
   const Scene scene = load_scene(kPlate);
   EXPECT_EQ(scene.back_faces, 1u);
+  EXPECT_EQ(scene.dark_back_faces, 1u);
+  ASSERT_EQ(scene.polygon_count(), 12u);
+  const Material& back = scene.face_material(11);
+  EXPECT_FALSE(back.emits());
+  EXPECT_EQ(back.reflectance[0], scene.face_material(10).reflectance[0]);
+  EXPECT_TRUE(scene.face_material(10).emits());
+  std::size_t warned = 0;
+  for (const std::string& w : scene.warnings)
+    warned += w.find("1 two-sided emitter face(s) emit from the front only") != std::string::npos;
+  EXPECT_EQ(warned, 1u);
+  Solver solver(scene, SolverOptions{});
+  solver.run();
+  const std::vector<Rgb> e = solver.probe_irradiance(plate_probes());
+  // The furnace side as with a two-sided plate (2 %); the dark side to 0.1 % of the lit
+  // side's irradiance, as with a one-sided plate (below).
+  EXPECT_NEAR(e[0][0], 2.0, 0.04);
+  EXPECT_NEAR(e[1][0], 2.0, 0.04);
+  EXPECT_NEAR(e[2][0], 0.0, 2e-3);
+  EXPECT_NEAR(e[3][0], 0.0, 2e-3);
+  EXPECT_NEAR(e[4][0], 0.0, 2e-3);
+  // The reference traces the same scene: nothing reaches the right wall.
+  const PathTracer pt(scene);
+  PathTracerOptions o;
+  o.rel_error = 5e-3;
+  o.max_samples = 1u << 16;
+  const ReferenceResult r = pt.estimate(plate_probes(), o);
+  EXPECT_NEAR(r.probes[1].irradiance[0], 2.0, 4 * r.probes[1].std_error[0] + 0.01 * 2);
+  EXPECT_NEAR(r.probes[3].irradiance[0], 0.0, 1e-12);
+  EXPECT_NEAR(r.probes[4].irradiance[0], 0.0, 1e-12);
+  const nlohmann::json j = scene_summary_json(scene);
+  EXPECT_EQ(j["emitter_sides"], "front");
+  EXPECT_EQ(j["dark_back_faces"], 1);
+}
+
+const SceneLoadOptions kBothEmit{Sides::Auto, 0, EmitterSides::Both};
+
+TEST(TwoSidedPlate, BackSideGetsTheLightOfItsOwnSide) {
+  // emitter_sides = both: the back face emits too, and receives nothing.
+  const Scene scene = load_scene(kPlate, kBothEmit);
+  EXPECT_EQ(scene.back_faces, 1u);
+  EXPECT_EQ(scene.dark_back_faces, 0u);
+  for (const std::string& w : scene.warnings) EXPECT_EQ(w.find("front only"), std::string::npos);
   ASSERT_EQ(scene.polygon_count(), 12u);
   Solver solver(scene, SolverOptions{});
   const RunStats st = solver.run();
@@ -183,7 +227,7 @@ TEST(TwoSidedPlate, BackSideGetsTheLightOfItsOwnSide) {
   EXPECT_GT(e[4][0], 0.05);
 
   // One-sided: no back face, the right cell is dark, the left one unchanged.
-  const Scene one = load_scene(kPlate, {Sides::One, 0});
+  const Scene one = load_scene(kPlate, {Sides::One, 0, EmitterSides::Both});
   EXPECT_EQ(one.back_faces, 0u);
   ASSERT_EQ(one.polygon_count(), 11u);
   Solver s1(one, SolverOptions{});
@@ -198,7 +242,9 @@ TEST(TwoSidedPlate, BackSideGetsTheLightOfItsOwnSide) {
   // stats.json's scene summary reports it.
   const nlohmann::json j = scene_summary_json(scene);
   EXPECT_EQ(j["sides"], "auto");
+  EXPECT_EQ(j["emitter_sides"], "both");
   EXPECT_EQ(j["back_faces"], 1);
+  EXPECT_EQ(j["dark_back_faces"], 0);
   EXPECT_EQ(scene_summary_json(one)["back_faces"], 0);
   EXPECT_EQ(scene_summary_json(one)["sides"], "one");
 }
@@ -207,7 +253,7 @@ TEST(TwoSidedPlate, BackSideGetsTheLightOfItsOwnSide) {
 // plate's back exitance times the form factor (within 4 SE plus 1 %), the back side of
 // the plate nothing, and the right floor what the solver gives (3 %).
 TEST(TwoSidedPlate, PathTracerAgrees) {
-  const Scene scene = load_scene(kPlate);
+  const Scene scene = load_scene(kPlate, kBothEmit);
   const PathTracer pt(scene);
   PathTracerOptions o;
   o.rel_error = 5e-3;

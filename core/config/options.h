@@ -35,6 +35,7 @@
 // | max_memory_gb       | double          | 0            | refinement's memory limit (0: 3/4 RAM)  |
 // | camera              | string          | ""           | core/scene/camera_spec.h, auto, or ""   |
 // | sides               | Sides           | auto         | core/scene/back_faces.h                 |
+// | emitter_sides       | EmitterSides    | front        | core/scene/back_faces.h                 |
 // | segments            | int             | 0            | MGF circle divisions (0: by size)       |
 // | shading             | Shading         | smooth       | core/config/modes.h                     |
 // | exposure            | double          | 0            | render.png's exposure, in stops         |
@@ -85,6 +86,7 @@ struct SolverOptions {
   double max_memory_gb = 0;
   std::string camera;
   Sides sides = Sides::Auto;
+  EmitterSides emitter_sides = EmitterSides::Front;
   int segments = 0;
   Shading shading = Shading::Smooth;
   double exposure = 0;

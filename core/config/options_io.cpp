@@ -24,7 +24,7 @@ using Member =
     std::variant<int S::*, std::uint64_t S::*, double S::*, std::string S::*, PinPolicy S::*,
                  MemBind S::*, PoolOrder S::*, ClusterModel S::*, ClusterReceiver S::*,
                  RowSumMode S::*, EffectsMode S::*, ShaftCulling S::*, DecisionRays S::*,
-                 PushVisibility S::*, Sides S::*, Shading S::*>;
+                 PushVisibility S::*, Sides S::*, EmitterSides S::*, Shading S::*>;
 
 template <class T>
 constexpr bool kIsMode = std::is_enum_v<T>;
@@ -91,6 +91,7 @@ const std::vector<Row>& rows() {
        "scene's own, else automatic)",
        &check_camera_text},
       {"sides", &S::sides, "back faces for two-sided materials"},
+      {"emitter_sides", &S::emitter_sides, "whether the back face of a two-sided emitter emits"},
       {"segments", &S::segments,
        "divisions of a full circle for MGF sph, cyl, cone, ring and torus (0: by each "
        "shape's radius against the scene's diagonal, 16 to 128)"},
@@ -521,6 +522,8 @@ ParamValues plugin_params_of(const SolverOptions& o, std::string_view kind) {
   return out;
 }
 
-SceneLoadOptions scene_load_options(const SolverOptions& o) { return {o.sides, o.segments}; }
+SceneLoadOptions scene_load_options(const SolverOptions& o) {
+  return {o.sides, o.segments, o.emitter_sides};
+}
 
 }  // namespace hrad

@@ -82,7 +82,8 @@ void validate_options(const SolverOptions& o);
 /// KIND.NAME.KEY of o.plugin_params whose NAME is o.scheduler (o.oracle).
 [[nodiscard]] ParamValues plugin_params_of(const SolverOptions& o, std::string_view kind);
 
-/// The scene options of a (validated) configuration: its `sides` and `segments` keys.
+/// The scene options of a (validated) configuration: its `sides`, `emitter_sides` and
+/// `segments` keys.
 [[nodiscard]] SceneLoadOptions scene_load_options(const SolverOptions& o);
 
 }  // namespace hrad

@@ -113,7 +113,10 @@ nlohmann::json scene_summary_json(const Scene& scene) {
       {"bounds", std::move(bounds)},
       {"grey", scene.is_grey()},
       {"sides", scene.sides.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene.sides)},
+      {"emitter_sides",
+       scene.emitter_sides.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene.emitter_sides)},
       {"back_faces", scene.back_faces},
+      {"dark_back_faces", scene.dark_back_faces},
       {"back_faces_present", scene.back_faces_present},
       {"warnings", scene.warnings},
   };

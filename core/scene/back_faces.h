@@ -11,7 +11,17 @@
 //   one   no back faces: every face one-sided, as RenderPark reads MGF;
 //   two   a back face for every face, whatever its material.
 // A face whose reversed copy is already in the scene (a sheet modelled from both sides)
-// gets none. The back face keeps the front's first vertex and reverses the rest, so
+// gets none.
+//
+// The `emitter_sides` option chooses whether a back face emits:
+//   front  the back face of an emitter reflects but does not emit (it gets a copy of
+//          the material without emission). MGF says `sides 2` of the material, not
+//          of the light: RenderPark, for which the classic MGF scenes were written,
+//          reads them one-sided, and Radiance's mgf2rad makes every emitter a `light`,
+//          whose polygons shine from the front only; a luminaire strip modelled as
+//          one polygon lights the room below it, not the ceiling above.
+//   both   the back face emits like the front: MGF `sides 2` taken literally (twice
+//          the emitted power of each two-sided emitter). The back face keeps the front's first vertex and reverses the rest, so
 // that a quad is split along the same diagonal by the ray tracer (exactly the same
 // triangles: no crack between the two sides).
 #pragma once
@@ -32,8 +42,19 @@ inline constexpr EnumName<Sides> kSidesNames[] = {
 };
 constexpr std::span<const EnumName<Sides>> enum_names(Sides) { return kSidesNames; }
 
-/// Appends the back faces `mode` asks for and records the mode and the counts in
-/// scene.sides, scene.back_faces and scene.back_faces_present. Run once per scene.
-void add_back_faces(Scene& scene, Sides mode);
+enum class EmitterSides { Front, Both };
+inline constexpr EnumName<EmitterSides> kEmitterSidesNames[] = {
+    {EmitterSides::Front, "front", "it reflects only, as RenderPark and Radiance read MGF"},
+    {EmitterSides::Both, "both", "it emits like the front: MGF sides 2 taken literally"},
+};
+constexpr std::span<const EnumName<EmitterSides>> enum_names(EmitterSides) {
+  return kEmitterSidesNames;
+}
+
+/// Appends the back faces `mode` asks for, dark or emitting as `emitters` says, and
+/// records the modes and the counts in scene.sides, scene.emitter_sides,
+/// scene.back_faces, scene.dark_back_faces and scene.back_faces_present (with a
+/// warning when some back faces were kept dark). Run once per scene.
+void add_back_faces(Scene& scene, Sides mode, EmitterSides emitters = EmitterSides::Front);
 
 }  // namespace hrad

@@ -17,8 +17,9 @@ struct Material {
   std::string name;
   Rgb reflectance = Rgb::Constant(0.5);  ///< diffuse reflectance rho, each channel in [0,1]
   Rgb emission = Rgb::Zero();            ///< emitted exitance E (power per unit area)
-  /// Both sides of its faces reflect and emit (MGF `sides 2`): core/scene/back_faces.h gives
-  /// each such face a back face, unless the `sides` option says `one`.
+  /// Both sides of its faces reflect (MGF `sides 2`): core/scene/back_faces.h gives each
+  /// such face a back face, unless the `sides` option says `one`; the back face of an
+  /// emitter emits only with the `emitter_sides` option `both`.
   bool two_sided = false;
   [[nodiscard]] bool emits() const { return (emission > 0).any(); }
 };
@@ -53,6 +54,10 @@ struct Scene {
   /// it did not run), the back faces it appended (the last `back_faces` faces), and the
   /// two-sided faces whose back face the input already had.
   std::string sides;
+  /// The `emitter_sides` mode applied, and how many of the back faces got a copy of
+  /// their emitting material without the emission.
+  std::string emitter_sides;
+  std::size_t dark_back_faces = 0;
   std::size_t back_faces = 0;
   std::size_t back_faces_present = 0;
 

@@ -39,7 +39,7 @@ Scene load_scene(const std::string& spec, const SceneLoadOptions& options) {
     mgf.segments = options.segments;
     scene = read_mgf(spec, mgf);
   }
-  add_back_faces(scene, options.sides);
+  add_back_faces(scene, options.sides, options.emitter_sides);
   return scene;
 }
 

@@ -3,7 +3,8 @@
 //   "*.obj"            -> read_obj(path)       (core/scene/obj_reader.h; Ke is radiance)
 //   "*.mgf"            -> read_mgf(path)       (core/scene/mgf/mgf_reader.h)
 // Extensions are compared case-insensitively. Anything else is an InputError.
-// Then add_back_faces (core/scene/back_faces.h) applies the `sides` option to every scene.
+// Then add_back_faces (core/scene/back_faces.h) applies the `sides` and `emitter_sides`
+// options to every scene.
 #pragma once
 
 #include <string>
@@ -13,10 +14,12 @@
 
 namespace hrad {
 
-/// The options that shape the scene itself: the `sides` and `segments` keys.
+/// The options that shape the scene itself: the `sides`, `emitter_sides` and `segments`
+/// keys.
 struct SceneLoadOptions {
   Sides sides = Sides::Auto;
   int segments = 0;  ///< MgfOptions::segments (0: automatic)
+  EmitterSides emitter_sides = EmitterSides::Front;
   bool operator==(const SceneLoadOptions&) const = default;
 };
 

@@ -212,6 +212,8 @@ class MgfParser {
   // Counted warnings.
   std::map<std::string, std::size_t, std::less<>> unknown_;
   std::size_t specular_ignored_ = 0, unmatched_o_ = 0, unclosed_xf_ = 0;
+  std::size_t negative_samples_ = 0;  // cspec values taken as zero
+  SourceLoc first_negative_;
   // Scene materials whose reflectance / emission colour was gamut-mapped.
   std::size_t mapped_reflectance_ = 0, mapped_emission_ = 0;
 };
@@ -432,8 +434,12 @@ void MgfParser::colour_entity(Args t, const SourceLoc& at) {
   colours_.touch();
 }
 
-// cspec l_min l_max v1 .. vN (cie_observer.h): N >= 2 non-negative values, not all
-// zero, evenly spaced over 0 < l_min < l_max nm; only 360..830 nm is seen.
+// cspec l_min l_max v1 .. vN (cie_observer.h): N >= 2 values, not all zero, evenly
+// spaced over 0 < l_min < l_max nm; only 360..830 nm is seen. Measured spectra carry
+// small negative samples (noise around zero: RenderPark's hospital has -0.8 beside a
+// peak of 38): a negative value no larger in magnitude than the spectrum's largest is
+// taken as zero, counted, and reported once with the first place it was met; a larger
+// one is an error, as is a spectrum with no positive value.
 MgfColour MgfParser::spectrum_colour(Args t, const SourceLoc& at) {
   const std::string_view kw = t[0];
   if (t.size() < 5)
@@ -445,11 +451,17 @@ MgfColour MgfParser::spectrum_colour(Args t, const SourceLoc& at) {
                      fmt::format("cspec: need 0 < l_min < l_max (got {} and {} nm)", lo, hi));
   std::vector<double> v;
   v.reserve(t.size() - 3);
-  for (std::size_t i = 3; i < t.size(); ++i) {
-    v.push_back(number(t[i], at, kw));
-    if (v.back() < 0)
+  for (std::size_t i = 3; i < t.size(); ++i) v.push_back(number(t[i], at, kw));
+  const double peak = *std::max_element(v.begin(), v.end());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (v[i] >= 0) continue;
+    if (!(-v[i] <= peak))
       throw InputError(at.file, at.line,
-                       fmt::format("cspec: value {} ({}) is negative", i - 2, v.back()));
+                       fmt::format("cspec: value {} ({}) is negative and larger in magnitude "
+                                   "than the spectrum's largest value ({})",
+                                   i + 1, v[i], peak));
+    if (negative_samples_++ == 0) first_negative_ = at;
+    v[i] = 0;
   }
   return xyz_colour(spectrum_to_xyz(lo, hi, v), at, kw,
                     "the spectrum has no power between 360 and 830 nm");
@@ -773,6 +785,11 @@ Scene MgfParser::finish(const std::string& file) {
                     "desaturated towards the grey of equal luminance (hue and "
                     "luminance kept)",
                     mapped_reflectance_ + mapped_emission_, mapped_reflectance_, mapped_emission_));
+  if (negative_samples_ > 0)
+    builder_.warn(
+        fmt::format("{}:{}: {} small negative cspec value(s) taken as zero (the first "
+                    "here; measured spectra carry noise around zero)",
+                    first_negative_.file, first_negative_.line, negative_samples_));
   if (unmatched_o_ > 0 || object_depth_ > 0)
     builder_.warn(fmt::format("unbalanced objects: {} 'o' end(s) without a begin, {} never ended",
                               unmatched_o_, object_depth_));
