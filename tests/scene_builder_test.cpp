@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace hrad {
 namespace {
 
@@ -140,6 +145,83 @@ TEST(SceneBuilder, DropsAndCountsDuplicateFaces) {
   ASSERT_EQ(s.warnings.size(), 1u);
   EXPECT_NE(s.warnings[0].find("3 duplicate face(s) dropped"), std::string::npos) << s.warnings[0];
   EXPECT_DOUBLE_EQ(s.total_area(), 3.0);
+}
+
+// Polygons that cover part of their area twice or with both orientations are dropped,
+// each counted, the first named by file and line; simple ones, convex or not, with a
+// seam hole or with thousands of corners, are kept with their area.
+std::string overlap_warning(const Scene& s) {
+  for (const std::string& w : s.warnings)
+    if (w.find("self-overlapping") != std::string::npos) return w;
+  return "";
+}
+
+Scene one_polygon(const std::vector<Vec3>& p) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  b.add_polygon(p, m, kHere);
+  b.add_polygon(std::vector<Vec3>{{0, 0, 5}, {1, 0, 5}, {0, 1, 5}}, m, {"test.obj", 9});
+  return b.finish("test.obj");
+}
+
+TEST(SceneBuilder, DropsSelfOverlappingPolygonsNamingTheFirst) {
+  // A unit square wound round twice: the vector area says 2.
+  const std::vector<Vec3> twice = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                   {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  EXPECT_DOUBLE_EQ(polygon_area(twice), 2.0);
+  Scene s = one_polygon(twice);
+  EXPECT_EQ(s.faces.size(), 1u);  // the triangle only
+  EXPECT_NE(overlap_warning(s).find("1 self-overlapping polygon(s) dropped (the first at "
+                                    "test.obj:7: edge 5 runs along edge 1 again)"),
+            std::string::npos)
+      << overlap_warning(s);
+  // A pentagram: every turn goes the same way, but it winds twice round its centre.
+  std::vector<Vec3> star;
+  for (int i = 0; i < 5; ++i) {
+    const double a = 2 * 3.141592653589793 * (2 * i) / 5;
+    star.emplace_back(std::cos(a), std::sin(a), 0);
+  }
+  s = one_polygon(star);
+  EXPECT_EQ(s.faces.size(), 1u);
+  EXPECT_NE(overlap_warning(s).find("test.obj:7: edges 1 and 3 cross"), std::string::npos)
+      << overlap_warning(s);
+  // A bow-tie: its two lobes cancel, so its vector area is 0; it is no sliver.
+  s = one_polygon({{0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 1, 0}});
+  EXPECT_EQ(s.faces.size(), 1u);
+  EXPECT_NE(overlap_warning(s).find("edges 1 and 3 cross"), std::string::npos);
+  for (const std::string& w : s.warnings) EXPECT_EQ(w.find("sliver"), std::string::npos) << w;
+  // Two of them: counted, the first named.
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  b.add_polygon(star, m, {"a.obj", 3});
+  b.add_polygon(twice, m, {"a.obj", 4});
+  b.add_polygon(std::vector<Vec3>{{0, 0, 5}, {1, 0, 5}, {0, 1, 5}}, m, kHere);
+  EXPECT_NE(overlap_warning(b.finish("a.obj"))
+                .find("2 self-overlapping polygon(s) dropped (the "
+                      "first at a.obj:3: edges 1 and 3 cross)"),
+            std::string::npos);
+}
+
+TEST(SceneBuilder, KeepsSimplePolygonsThatTouchThemselves) {
+  // A square with a square hole, written as one loop with a seam (MGF's way): the seam
+  // runs both ways and the hole's corners repeat, but nothing crosses.
+  const std::vector<Vec3> holed = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {0, 0, 0},
+                                   {1, 1, 0}, {1, 3, 0}, {3, 3, 0}, {3, 1, 0}, {1, 1, 0}};
+  Scene s = one_polygon(holed);
+  EXPECT_EQ(overlap_warning(s), "");
+  EXPECT_NEAR(s.total_area(), 16 - 4 + 0.5, 1e-12);
+  // A circle of 20,000 corners (the binned test) is kept whole; the same circle with two
+  // corners swapped crosses itself, and the crossing is found.
+  std::vector<Vec3> circle;
+  constexpr int kN = 20000;
+  for (int i = 0; i < kN; ++i) {
+    const double a = 2 * 3.141592653589793 * i / kN;
+    circle.emplace_back(std::cos(a), std::sin(a), 0);
+  }
+  EXPECT_EQ(overlap_warning(one_polygon(circle)), "");
+  std::swap(circle[100], circle[101]);
+  EXPECT_NE(overlap_warning(one_polygon(circle)).find("edges 100 and 102 cross"), std::string::npos)
+      << overlap_warning(one_polygon(circle));
 }
 
 TEST(SceneBuilder, RejectsBadVerticesWithFileAndLine) {

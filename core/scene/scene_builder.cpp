@@ -1,5 +1,7 @@
 #include "core/scene/scene_builder.h"
 
+#include "core/scene/self_overlap.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -79,6 +81,14 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
   std::vector<Vec3> p;
   p.reserve(idx.size());
   for (std::uint32_t i : idx) p.push_back(scene_.vertices[i]);
+  // A polygon that crosses or retraces itself has no one area or orientation (a
+  // bow-tie's lobes cancel, a pentagram counts its centre twice): dropped, before the
+  // area test could call a bow-tie a sliver (core/scene/self_overlap.h).
+  if (const SelfOverlap o = find_self_overlap(p); o.found) {
+    if (self_overlapping_faces_++ == 0)
+      first_self_overlap_ = fmt::format("{}:{}: {}", at.file, at.line, o.what);
+    return;
+  }
   // Zero area, relative to the face's own size (edge lengths), is degenerate.
   double perimeter2 = 0;
   for (std::size_t i = 0; i < p.size(); ++i)
@@ -191,6 +201,12 @@ Scene SceneBuilder::finish(const std::string& file) {
         fmt::format("{} sliver face(s) dropped (area below 1e-12 of the squared edge lengths: "
                     "too thin for a reliable normal)",
                     sliver_faces_));
+  if (self_overlapping_faces_ > 0)
+    warn(
+        fmt::format("{} self-overlapping polygon(s) dropped (the first at {}): a polygon whose "
+                    "boundary crosses or retraces itself covers part of its area twice or with "
+                    "both orientations; give it as simple polygons",
+                    self_overlapping_faces_, first_self_overlap_));
   if (duplicate_faces_ > 0)
     warn(
         fmt::format("{} duplicate face(s) dropped (the same vertices in the same order as an "

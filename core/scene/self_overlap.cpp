@@ -1,0 +1,125 @@
+#include "core/scene/self_overlap.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <utility>
+#include <vector>
+
+namespace hrad {
+
+namespace {
+
+using Point = Eigen::Vector2d;
+
+// The plane's normal: the vector area's, else (the lobes of a bow-tie cancel) that of
+// the corner with the largest cross product.
+Vec3 plane_normal(std::span<const Vec3> p) {
+  const Vec3 a = vector_area(p);
+  double best = 0;
+  Vec3 n = Vec3::Zero();
+  const std::size_t k = p.size();
+  for (std::size_t i = 0; i < k; ++i) {
+    const Vec3 c = (p[(i + 1) % k] - p[i]).cross(p[(i + 2) % k] - p[(i + 1) % k]);
+    if (c.norm() > best) {
+      best = c.norm();
+      n = c;
+    }
+  }
+  // A vector area much smaller than the corners says the lobes cancelled.
+  if (a.norm() > 1e-3 * best) n = a;
+  const double len = n.norm();
+  return len > 0 ? Vec3(n / len) : Vec3::Zero();
+}
+
+double orient(const Point& a, const Point& b, const Point& c) {
+  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+}
+
+}  // namespace
+
+SelfOverlap find_self_overlap(std::span<const Vec3> p) {
+  SelfOverlap r;
+  const std::size_t k = p.size();
+  if (k < 4) return r;  // a triangle cannot overlap itself
+  // An edge run twice in the same direction (by positions: a face may repeat indices or
+  // give the same corner twice under two indices).
+  std::map<std::array<double, 6>, std::size_t> directed;
+  for (std::size_t i = 0; i < k; ++i) {
+    const Vec3& a = p[i];
+    const Vec3& b = p[(i + 1) % k];
+    if (a == b) continue;
+    const auto [it, fresh] = directed.emplace(std::array<double, 6>{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}, i);
+    if (!fresh) {
+      r.found = true;
+      r.what = fmt::format("edge {} runs along edge {} again", i + 1, it->second + 1);
+      return r;
+    }
+  }
+  const Vec3 n = plane_normal(p);
+  if (n.isZero()) return r;  // every corner degenerate: no area to cover twice
+  const Vec3 u = n.unitOrthogonal();
+  const Vec3 v = n.cross(u);
+  std::vector<Point> q(k);
+  Point lo(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
+  Point hi = -lo;
+  for (std::size_t i = 0; i < k; ++i) {
+    q[i] = Point(p[i].dot(u), p[i].dot(v));
+    lo = lo.cwiseMin(q[i]);
+    hi = hi.cwiseMax(q[i]);
+  }
+  const double size = (hi - lo).norm();
+  if (!(size > 0)) return r;
+  for (Point& x : q) x -= lo;  // round-off in orient() then scales with the size
+  const auto crossing = [&](std::size_t i, std::size_t j) {
+    // Edges sharing a corner of the cycle only touch.
+    if (i == j || (i + 1) % k == j || (j + 1) % k == i) return false;
+    const Point &a = q[i], &b = q[(i + 1) % k], &c = q[j], &d = q[(j + 1) % k];
+    // Orientations this small count as zero (touching, or collinear like a seam):
+    // 1e-10 of the two edges' lengths multiplied, plus round-off at the polygon's size.
+    const double ab = (b - a).norm(), cd = (d - c).norm();
+    const double tiny = 1e-10 * ab * cd + 1e-14 * size * (ab + cd);
+    const auto sign = [&](double o) { return o > tiny ? 1 : (o < -tiny ? -1 : 0); };
+    return sign(orient(a, b, c)) * sign(orient(a, b, d)) < 0 &&
+           sign(orient(c, d, a)) * sign(orient(c, d, b)) < 0;
+  };
+  const auto found = [&](std::size_t i, std::size_t j) {
+    r.found = true;
+    r.what = fmt::format("edges {} and {} cross", std::min(i, j) + 1, std::max(i, j) + 1);
+    return r;
+  };
+  constexpr std::size_t kBrute = 64;
+  if (k <= kBrute) {
+    for (std::size_t i = 0; i < k; ++i)
+      for (std::size_t j = i + 2; j < k; ++j)
+        if (crossing(i, j)) return found(i, j);
+    return r;
+  }
+  // Edges binned by their boxes on a grid of about k cells; pairs meet in a cell.
+  const auto g = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(k))));
+  const Point cell = (hi - lo) / static_cast<double>(g);
+  const auto index = [&](double x, double l, double w) {
+    if (!(w > 0)) return std::size_t{0};
+    return std::min(g - 1, static_cast<std::size_t>(std::max(0.0, (x - l) / w)));
+  };
+  std::vector<std::vector<std::size_t>> bins(g * g);
+  for (std::size_t i = 0; i < k; ++i) {
+    const Point a = q[i], b = q[(i + 1) % k];
+    const std::size_t x0 = index(std::min(a.x(), b.x()), lo.x(), cell.x()),
+                      x1 = index(std::max(a.x(), b.x()), lo.x(), cell.x()),
+                      y0 = index(std::min(a.y(), b.y()), lo.y(), cell.y()),
+                      y1 = index(std::max(a.y(), b.y()), lo.y(), cell.y());
+    for (std::size_t y = y0; y <= y1; ++y)
+      for (std::size_t x = x0; x <= x1; ++x) bins[y * g + x].push_back(i);
+  }
+  for (const std::vector<std::size_t>& bin : bins)
+    for (std::size_t s = 0; s < bin.size(); ++s)
+      for (std::size_t t = s + 1; t < bin.size(); ++t)
+        if (crossing(bin[s], bin[t])) return found(bin[s], bin[t]);
+  return r;
+}
+
+}  // namespace hrad
