@@ -235,7 +235,7 @@ void register_experiment(CLI::App& app, CommandContext& ctx) {
                   "for dead and its run handed to another (needs mpirun --enable-recovery) "
                   "[default: 60]")
       ->type_name("SECONDS")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(0.001, 1e6));
   sub->add_option("--rank-cores", args->rank_cores,
                   "Under mpirun: 'share' splits a host's CPUs between the worker ranks on it "
                   "(launch with --bind-to none); 'inherit' keeps the launcher's binding (one "

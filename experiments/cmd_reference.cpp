@@ -212,14 +212,17 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--rel-error", args->options.rel_error,
                   "Stop a probe when its standard error is below this fraction of its "
                   "irradiance (per channel, with the floor) [default: 0.01]")
-      ->type_name("X");
+      ->type_name("X")
+      ->check(number_in(1e-6, 1));
   sub->add_option("--floor", args->options.abs_floor,
                   "Absolute irradiance floor of the relative-error test [default: 1e-3 x the "
                   "mean probe irradiance]")
-      ->type_name("X");
+      ->type_name("X")
+      ->check(number_in(0, 1e30));
   sub->add_option("--max-samples", args->options.max_samples,
                   fmt::format("Paths per probe at most [default: {}]", args->options.max_samples))
-      ->type_name("N");
+      ->type_name("N")
+      ->check(number_in(1, 1e15));
   sub->add_option("--batch-size", args->options.batch_size,
                   "Paths per batch (the standard error comes from batch means) [default: 64]")
       ->type_name("N")
@@ -228,7 +231,8 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
       ->type_name("N");
   sub->add_option("--threads", args->options.threads,
                   "OpenMP threads; results do not depend on it [default: 1]")
-      ->type_name("N");
+      ->type_name("N")
+      ->check(CLI::Range(1, kMaxThreads));
   // The scene's own keys, with the help text of `hrad solve`'s flags.
   const SolverOptions defaults;
   auto scene_key_help = [&](const char* key) {

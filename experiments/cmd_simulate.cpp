@@ -31,6 +31,7 @@
 // | --lock-work-ns  | X         | 200                     | private work between two acquisitions   |
 #include "core/base/atomic_file.h"
 #include "core/base/progress.h"
+#include "core/config/options.h"
 #include "core/parallel/trace.h"
 #include "experiments/commands.h"
 #include "experiments/sim/lock_calibration.h"
@@ -453,22 +454,28 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--scale", args->scale,
                   "every time in the trace x this (task durations of another machine: its "
                   "1-thread refinement time / this one's)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(1e-6, 1e6));
   sub->add_option("--costs", args->costs,
                   "JSON object of cost model fields (experiments/sim/cost_model.h); repeatable, "
                   "a later file overrides an earlier one");
-  sub->add_option("--take-ns", args->take_ns, "central lock held per take, ns");
-  sub->add_option("--submit-ns", args->submit_ns, "central lock held per submit, ns");
-  sub->add_option("--steal-ns", args->steal_ns, "per stolen task, ns");
+  sub->add_option("--take-ns", args->take_ns, "central lock held per take, ns")
+      ->check(number_in(0, 1e12));
+  sub->add_option("--submit-ns", args->submit_ns, "central lock held per submit, ns")
+      ->check(number_in(0, 1e12));
+  sub->add_option("--steal-ns", args->steal_ns, "per stolen task, ns")->check(number_in(0, 1e12));
   sub->add_option("--overheads", args->overheads,
                   "time outside tasks, from the trace's gaps: 'typical' (block_ns = median gap "
                   "between blocks minus the modelled lock costs, task_ns = 0: predicts an untraced "
                   "run) or 'all' (means of both gaps: the traced run itself, with its tracing "
                   "cost, preemption and page faults)")
       ->capture_default_str();
-  sub->add_option("--block-ns", args->block_ns, "per-block time outside the scheduler, ns");
-  sub->add_option("--task-ns", args->task_ns, "per-task time outside its recorded duration, ns");
-  sub->add_option("--slowdown", args->slowdown, "task durations x this at 2 or more processors");
+  sub->add_option("--block-ns", args->block_ns, "per-block time outside the scheduler, ns")
+      ->check(number_in(0, 1e12));
+  sub->add_option("--task-ns", args->task_ns, "per-task time outside its recorded duration, ns")
+      ->check(number_in(0, 1e12));
+  sub->add_option("--slowdown", args->slowdown, "task durations x this at 2 or more processors")
+      ->check(number_in(1e-3, 1e3));
   sub->add_option(
       "--calibrate", args->calibrate,
       "trace of the same run at 2 threads: slowdown = its summed task durations / TRACE's");
@@ -489,10 +496,12 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                               "threads and print them as a --costs object (no TRACE)",
                               fmt::join(calibration_lock_names(), ", ")));
   sub->add_option("--lock-threads", args->lock_threads,
-                  "--calibrate-locks: most threads (default: the hardware's)");
+                  "--calibrate-locks: most threads (default: the hardware's)")
+      ->check(CLI::Range(2, kMaxThreads));
   sub->add_option("--lock-work-ns", args->lock_work_ns,
                   "--calibrate-locks: private work between two acquisitions, ns")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(0, 1e9));
   sub->callback([args, &ctx] {
     try {
       if (!args->calibrate_locks.empty())

@@ -1,4 +1,5 @@
 // `hrad topology`: the machine as hwloc sees it (honours HWLOC_SYNTHETIC / HWLOC_XMLFILE).
+#include "core/config/options.h"
 #include "core/parallel/pin_plan.h"
 #include "core/parallel/topology.h"
 #include "experiments/commands.h"
@@ -45,7 +46,7 @@ void register_topology(CLI::App& app, CommandContext& ctx) {
                   "also print where `hrad solve --pin POLICY` would bind each refiner")
       ->check(CLI::IsMember({"none", "compact", "scatter", "node-round-robin"}));
   sub->add_option("--threads", args->threads, "refiners for --pin (default: one per PU)")
-      ->check(positive_number());
+      ->check(CLI::Range(1, kMaxThreads));
   sub->callback([&ctx, args] {
     try {
       const TopologyInfo t = discover_topology();

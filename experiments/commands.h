@@ -40,6 +40,9 @@ bool make_output_folder(const std::filesystem::path& out, bool& created);
 /// Check for an option that takes a number > 0 (CLI11's PositiveNumber printed its
 /// upper bound, a 309-digit number, in its message).
 CLI::Validator positive_number();
+/// A finite number (no nan, inf or wrap-around of "-1" into an unsigned option) between
+/// lo and hi inclusive, checked on the text before CLI11 converts it.
+CLI::Validator number_in(double lo, double hi);
 
 /// Prints "hrad: MESSAGE" to stderr, MESSAGE cut to kMaxErrorChars (a message that
 /// echoes a huge input value stays readable).

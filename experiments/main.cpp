@@ -33,6 +33,21 @@ CLI::Validator positive_number() {
       "> 0");
 }
 
+CLI::Validator number_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double v = 0;
+        const char* end = text.data() + text.size();
+        const auto r = std::from_chars(text.data(), end, v);
+        if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v))
+          return "'" + text + "' is not a finite number";
+        return v >= lo && v <= hi
+                   ? std::string()
+                   : fmt::format("must be between {:g} and {:g}, not {}", lo, hi, text);
+      },
+      fmt::format("{:g} .. {:g}", lo, hi));
+}
+
 void print_error(std::string_view message) {
   if (message.size() <= kMaxErrorChars) {
     fmt::print(stderr, "hrad: {}\n", message);

@@ -56,6 +56,16 @@
 
 namespace hrad {
 
+/// Upper bounds of the numeric keys (validate_options): far above any useful value, low
+/// enough that nothing is made that cannot be run.
+inline constexpr int kMaxThreads = 1024;
+inline constexpr int kMaxBlockSize = 1 << 20;
+inline constexpr int kMaxIterations = 10000;
+inline constexpr int kMaxRaysPerLink = 1024;
+inline constexpr int kMaxGatherSweeps = 10000000;
+inline constexpr int kMaxRowSumRays = 65536;
+inline constexpr int kMaxLocksPool = 1 << 20;
+
 struct SolverOptions {
   std::string scheduler = "blocked";
   /// 0: guided (schedulers/scheduler.h, guided_block); N: at most N tasks per visit.

@@ -67,7 +67,7 @@ const std::vector<Row>& rows() {
       {"seed", &S::seed, "mixed into every per-link random number"},
       {"gather_tolerance", &S::gather_tolerance,
        "the last iteration's propagation stops when the estimated remaining change is "
-       "below this fraction of the largest radiosity (earlier iterations at max(this, 1e-4))"},
+       "below this fraction of the largest radiosity (earlier iterations at max(this, 1e-3))"},
       {"max_gather_sweeps", &S::max_gather_sweeps,
        "hard cap on gather + push-pull sweeps per iteration"},
       {"cluster_model", &S::cluster_model, "cluster projected areas"},
@@ -306,7 +306,7 @@ void check_syntax(const Row& r, const T& value, std::string_view source) {
   }
 }
 
-void check(bool ok, const char* key, const std::string& value, const char* rule) {
+void check(bool ok, const char* key, const std::string& value, std::string_view rule) {
   if (!ok)
     throw std::invalid_argument(
         fmt::format("option {} = {} is out of range: it must be {}", key, value, rule));
@@ -475,21 +475,33 @@ void apply_option_assignment(SolverOptions& o, const std::string& key_eq_value) 
 
 void validate_options(const SolverOptions& o) {
   const auto str = [](auto v) { return fmt::format("{}", v); };
+  // Every number has an upper bound too, checked before anything is made: a thread
+  // count of 100000 crashed the OpenMP runtime, a billion ran out of memory, and an
+  // unbounded ray count made one task run for minutes (kMaxThreads and the others:
+  // core/config/options.h).
   check(!o.scheduler.empty(), "scheduler", "\"\"", "a scheduler name");
-  check(o.block_size >= 0, "block_size", str(o.block_size), ">= 0 (0: guided)");
-  check(o.threads >= 1, "threads", str(o.threads), ">= 1");
+  check(o.block_size >= 0 && o.block_size <= kMaxBlockSize, "block_size", str(o.block_size),
+        fmt::format("between 0 (guided) and {}", kMaxBlockSize));
+  check(o.threads >= 1 && o.threads <= kMaxThreads, "threads", str(o.threads),
+        fmt::format("between 1 and {}", kMaxThreads));
   check(!o.oracle.empty(), "oracle", "\"\"", "an oracle name");
   check(std::isfinite(o.eps) && o.eps > 0, "eps", str(o.eps), "a finite number > 0");
-  check(std::isfinite(o.min_area) && o.min_area >= 0, "min_area", str(o.min_area),
-        "a finite number >= 0");
-  check(o.iterations >= 1, "iterations", str(o.iterations), ">= 1");
-  check(o.visibility_rays >= 0, "visibility_rays", str(o.visibility_rays), ">= 0");
-  check(std::isfinite(o.gather_tolerance) && o.gather_tolerance > 0, "gather_tolerance",
-        str(o.gather_tolerance), "a finite number > 0");
-  check(o.max_gather_sweeps >= 1, "max_gather_sweeps", str(o.max_gather_sweeps), ">= 1");
-  check(o.max_memory_gb >= 0, "max_memory_gb", str(o.max_memory_gb), ">= 0");
-  check(o.row_sum_rays >= 1, "row_sum_rays", str(o.row_sum_rays), ">= 1");
-  check(o.locks_pool >= 0, "locks_pool", str(o.locks_pool), ">= 0 (0: automatic)");
+  check(std::isfinite(o.min_area) && o.min_area >= 0 && o.min_area <= 1, "min_area",
+        str(o.min_area), "a number between 0 and 1 (a fraction of the scene's area)");
+  check(o.iterations >= 1 && o.iterations <= kMaxIterations, "iterations", str(o.iterations),
+        fmt::format("between 1 and {}", kMaxIterations));
+  check(o.visibility_rays >= 0 && o.visibility_rays <= kMaxRaysPerLink, "visibility_rays",
+        str(o.visibility_rays), fmt::format("between 0 and {}", kMaxRaysPerLink));
+  check(std::isfinite(o.gather_tolerance) && o.gather_tolerance > 0 && o.gather_tolerance <= 1,
+        "gather_tolerance", str(o.gather_tolerance), "a number > 0 and <= 1");
+  check(o.max_gather_sweeps >= 1 && o.max_gather_sweeps <= kMaxGatherSweeps, "max_gather_sweeps",
+        str(o.max_gather_sweeps), fmt::format("between 1 and {}", kMaxGatherSweeps));
+  check(std::isfinite(o.max_memory_gb) && o.max_memory_gb >= 0, "max_memory_gb",
+        str(o.max_memory_gb), "a finite number >= 0");
+  check(o.row_sum_rays >= 1 && o.row_sum_rays <= kMaxRowSumRays, "row_sum_rays",
+        str(o.row_sum_rays), fmt::format("between 1 and {}", kMaxRowSumRays));
+  check(o.locks_pool >= 0 && o.locks_pool <= kMaxLocksPool, "locks_pool", str(o.locks_pool),
+        fmt::format("between 0 (automatic) and {}", kMaxLocksPool));
   check(o.image_width >= 8 && o.image_width <= 16384, "image_width", str(o.image_width),
         "between 8 and 16384");
   check(o.segments == 0 || (o.segments >= 3 && o.segments <= 4096), "segments", str(o.segments),

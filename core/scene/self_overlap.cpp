@@ -52,7 +52,8 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
     const Vec3& a = p[i];
     const Vec3& b = p[(i + 1) % k];
     if (a == b) continue;
-    const auto [it, fresh] = directed.emplace(std::array<double, 6>{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}, i);
+    const auto [it, fresh] =
+        directed.emplace(std::array<double, 6>{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}, i);
     if (!fresh) {
       r.found = true;
       r.what = fmt::format("edge {} runs along edge {} again", i + 1, it->second + 1);

@@ -1,0 +1,66 @@
+// Numbers beyond what can be run (hostile input, round three): every command refuses
+// them with the option named before anything is made. --threads 100000 crashed the
+// OpenMP runtime in solve, reference and experiment and left an empty output folder;
+// reference --max-samples -1 wrapped to 2^64 - 1; --floor nan, --worker-timeout nan and
+// simulate's infinite costs were accepted (simulate then wrote inf and nan to its CSV).
+#include "tests/cli_fixture.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace {
+
+using hrad::test::contains;
+using hrad::test::Result;
+
+class OptionBounds : public hrad::test::Cli {
+ protected:
+  /// `hrad ARGS` fails with status 1 or 2 (CLI11's usage errors), names `what`, and
+  /// leaves the folder as it was.
+  void refused(const std::string& args, const std::string& what) const {
+    const int before = entries();
+    const Result r = hrad(args);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_TRUE(contains(r.err, what)) << args << ": " << r.err;
+    EXPECT_EQ(entries(), before) << args;
+  }
+};
+
+TEST_F(OptionBounds, ThreadCountsAreBoundedEverywhere) {
+  refused("solve builtin:cornell --threads 100000 --out run", "threads = 100000 is out of range");
+  refused("solve builtin:cornell --set threads=1000000000 --out run", "threads");
+  write("t.json", R"({"threads": 50000})");
+  refused("solve builtin:cornell --config t.json --out run", "between 1 and 1024");
+  refused("reference builtin:cornell --random-probes 4 --threads 100000 --out ref", "--threads");
+  write("exp.json",
+        R"({"name": "x", "scenes": ["builtin:cornell"], "sweep": {"threads": [1, 100000]}})");
+  refused("experiment exp.json --out x", "between 1 and 1024");
+  refused("topology --threads 100000", "--threads");
+  // Ray counts: a single task ran for minutes.
+  refused("solve builtin:cornell --set visibility_rays=100000 --out run", "visibility_rays");
+  refused("solve builtin:cornell --set row_sum_rays=10000000 --out run", "row_sum_rays");
+}
+
+TEST_F(OptionBounds, ReferenceNumbersAreFiniteAndInRange) {
+  refused("reference builtin:cornell --random-probes 4 --max-samples -1 --out ref",
+          "--max-samples");
+  refused("reference builtin:cornell --random-probes 4 --floor nan --out ref", "--floor");
+  refused("reference builtin:cornell --random-probes 4 --rel-error inf --out ref", "--rel-error");
+  refused("reference builtin:cornell --random-probes 4 --rel-error 0 --out ref", "--rel-error");
+}
+
+TEST_F(OptionBounds, ExperimentAndSimulateNumbersAreFinite) {
+  write("exp.json", R"({"name": "x", "scenes": ["builtin:cornell"]})");
+  refused("experiment exp.json --worker-timeout nan --out x", "--worker-timeout");
+  refused("simulate missing.trace --take-ns inf", "--take-ns");
+  refused("simulate missing.trace --slowdown nan", "--slowdown");
+  refused("simulate missing.trace --scale -1", "--scale");
+  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status,
+            0);
+  // A cost file cannot bring infinity either: JSON has none, and 1e999 overflows.
+  write("costs.json", R"({"take_op_ns": 1e999})");
+  refused("simulate t.trace --costs costs.json --procs 2", "costs.json: not valid JSON");
+}
+
+}  // namespace
