@@ -30,6 +30,7 @@
 // | --lock-threads  | N         | the hardware's          | --calibrate-locks at 2 .. N threads     |
 // | --lock-work-ns  | X         | 200                     | private work between two acquisitions   |
 #include "core/base/atomic_file.h"
+#include "core/base/input_file.h"
 #include "core/base/progress.h"
 #include "core/config/options.h"
 #include "core/parallel/trace.h"
@@ -133,6 +134,7 @@ struct Measured {
 };
 
 Measured read_measured(const std::string& file) {
+  check_input_file(file, "the stats file");
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file + ": cannot open the stats file");
   nlohmann::json j;
@@ -155,6 +157,7 @@ Measured read_measured(const std::string& file) {
 // --stage-stats: per iteration, the stage's time outside the task loop in the traced
 // (1-thread) run, ns × scale. Needs the fields stats.json has since 1f17afa.
 std::vector<OutsideLoop> read_outside(const std::string& file, double scale) {
+  check_input_file(file, "the stats file");
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file + ": cannot open the stats file");
   try {

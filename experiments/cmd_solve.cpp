@@ -15,6 +15,7 @@
 //      folder if it created it.
 #include "core/base/clock.h"
 #include "core/base/input_error.h"
+#include "core/base/input_file.h"
 #include "core/base/interrupt.h"
 #include "core/base/json_input.h"
 #include "core/base/progress.h"
@@ -96,6 +97,7 @@ struct Failure {
 SolverOptions resolve_options(const SolveArgs& a, std::string& camera_from) {
   SolverOptions o;
   if (!a.config.empty()) {
+    check_input_file(a.config, "the config file");
     std::ifstream in(a.config);
     if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the config file", a.config));
     std::stringstream text;

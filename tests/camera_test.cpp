@@ -164,7 +164,7 @@ TEST(ViewFile, ErrorsNameTheFileAndLine) {
     EXPECT_TRUE(contains(e, message)) << text << "gave: " << e;
   }
   const std::string e = error_of<InputError>([&] { (void)read_view_file("no/such.view"); });
-  EXPECT_TRUE(contains(e, "no/such.view: cannot open the view file")) << e;
+  EXPECT_TRUE(contains(e, "no/such.view: the view file does not exist")) << e;
 }
 
 // --- the automatic camera -----------------------------------------------------------

@@ -118,7 +118,7 @@ TEST_F(CliCamera, BadCamerasAreNamedAndCreateNoFolder) {
         "c.json: option 'camera' = 'eye=1,2,3:look=0,0,0:fov=-1': fov -1");
   write("bad.view", "eye 1 2 3\nlook 4 5\n");
   fails("thick.obj --view bad.view", "hrad: bad.view:2: 'look' needs 3 numbers, got 2");
-  fails("thick.obj --view missing.view", "missing.view: cannot open the view file");
+  fails("thick.obj --view missing.view", "missing.view: the view file does not exist");
   write("thick.view", "eye 1 2 3\nfocus 4 5 6\n");
   fails("thick.obj", "thick.view:2: unknown keyword 'focus'");
   write("good.view", "eye 2 2 2\nlook 5 5 5\n");

@@ -1,6 +1,7 @@
 // Experiment configurations: strict parsing (unknown keys, types, empty lists, option
 // ranges and names), --quick, --set, the JSON round trip, and every shipped config.
 #include "experiments/harness/experiment_config.h"
+#include "core/base/input_error.h"
 
 #include <gtest/gtest.h>
 
@@ -246,7 +247,7 @@ TEST(ExperimentConfig, FilesWithCommentsAndErrors) {
     EXPECT_NE(m.find("bad.json: not valid JSON"), std::string::npos) << m;
     EXPECT_NE(m.find("line 2"), std::string::npos) << m;
   }
-  EXPECT_THROW((void)load_experiment_config(dir / "missing.json"), std::invalid_argument);
+  EXPECT_THROW((void)load_experiment_config(dir / "missing.json"), InputError);
   std::filesystem::remove_all(dir);
 }
 

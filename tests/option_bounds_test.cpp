@@ -56,8 +56,8 @@ TEST_F(OptionBounds, ExperimentAndSimulateNumbersAreFinite) {
   refused("simulate missing.trace --take-ns inf", "--take-ns");
   refused("simulate missing.trace --slowdown nan", "--slowdown");
   refused("simulate missing.trace --scale -1", "--scale");
-  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status,
-            0);
+  ASSERT_EQ(
+      hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status, 0);
   // A cost file cannot bring infinity either: JSON has none, and 1e999 overflows.
   write("costs.json", R"({"take_op_ns": 1e999})");
   refused("simulate t.trace --costs costs.json --procs 2", "costs.json: not valid JSON");

@@ -1,4 +1,5 @@
 #include "core/parallel/trace.h"
+#include "core/base/input_file.h"
 
 #include "core/base/atomic_file.h"
 
@@ -21,6 +22,7 @@ void write_trace(const std::filesystem::path& path, const std::string& header_js
 }
 
 std::vector<TraceRecord> read_trace(const std::filesystem::path& path, std::string* header_json) {
+  check_input_file(path, "the trace");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path.string() + ": cannot open trace");
   std::string header;

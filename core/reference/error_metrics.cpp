@@ -1,5 +1,6 @@
 // Error metrics: see error_metrics.h.
 #include "core/reference/error_metrics.h"
+#include "core/base/input_file.h"
 
 #include "core/base/hash.h"
 #include "core/base/input_error.h"
@@ -131,6 +132,7 @@ ProbeTable read_probe_table(const std::filesystem::path& path) {
   std::error_code ec;
   const std::filesystem::path file =
       std::filesystem::is_directory(path, ec) ? path / "probes.csv" : path;
+  check_input_file(file, "the probe table");
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), 0, "cannot open the file");
   std::stringstream ss;

@@ -1,4 +1,5 @@
 #include "core/scene/camera_spec.h"
+#include "core/base/input_file.h"
 
 #include "core/base/input_error.h"
 #include "core/base/json_input.h"
@@ -108,6 +109,7 @@ CameraSpec parse_camera_spec(std::string_view text) {
 
 CameraSpec read_view_file(const std::filesystem::path& path) {
   const std::string file = path.string();
+  check_input_file(path, "the view file");
   std::ifstream in(path);
   if (!in) throw InputError(file, 0, "cannot open the view file");
   CameraSpec s;

@@ -1,5 +1,6 @@
 // Reader for hrad's own PLY layout: see ply_reader.h.
 #include "core/scene/ply_reader.h"
+#include "core/base/input_file.h"
 
 #include "core/base/input_error.h"
 
@@ -105,6 +106,7 @@ RenderMesh decode_ply(const std::string& bytes, const std::string& file) {
 }
 
 RenderMesh read_ply(const std::filesystem::path& path) {
+  check_input_file(path, "the PLY file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open the file");
   std::stringstream ss;

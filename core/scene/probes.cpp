@@ -1,4 +1,5 @@
 #include "core/scene/probes.h"
+#include "core/base/input_file.h"
 
 #include "core/base/atomic_file.h"
 #include "core/base/input_error.h"
@@ -81,6 +82,7 @@ std::vector<Probe> parse_probes(const std::string& text, const std::string& file
 }
 
 std::vector<Probe> read_probes(const std::string& path) {
+  check_input_file(path, "the probe file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open the probe file");
   std::ostringstream text;

@@ -1,4 +1,5 @@
 #include "experiments/harness/experiment_config.h"
+#include "core/base/input_file.h"
 
 #include "core/base/json_input.h"
 #include "core/config/options_io.h"
@@ -315,6 +316,7 @@ ExperimentConfig parse_experiment_config(const ojson& j, const std::string& sour
 }
 
 ExperimentConfig load_experiment_config(const std::filesystem::path& path) {
+  check_input_file(path, "the experiment configuration");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the file", path.string()));
   std::stringstream text;

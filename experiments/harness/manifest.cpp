@@ -1,4 +1,5 @@
 #include "experiments/harness/manifest.h"
+#include "core/base/input_file.h"
 
 #include "core/base/atomic_file.h"
 #include "core/base/json_input.h"
@@ -123,6 +124,7 @@ void write_manifest(const std::filesystem::path& dir, const ojson& manifest) {
 
 ojson read_manifest(const std::filesystem::path& dir) {
   const std::filesystem::path path = dir / "manifest.json";
+  check_input_file(path, "the manifest");
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
   std::stringstream s;

@@ -1,4 +1,5 @@
 #include "experiments/harness/result_files.h"
+#include "core/base/input_file.h"
 
 #include "core/base/atomic_file.h"
 #include "experiments/harness/csv.h"
@@ -16,6 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string read_text(const fs::path& path) {
+  check_input_file(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path.string()));
   std::stringstream s;

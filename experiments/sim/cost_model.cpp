@@ -1,4 +1,5 @@
 #include "experiments/sim/cost_model.h"
+#include "core/base/input_file.h"
 
 #include "core/base/json_input.h"
 #include "schedulers/scheduler.h"
@@ -142,6 +143,7 @@ CostModel default_costs(Policy policy) {
 }
 
 void load_costs(const std::filesystem::path& file, CostModel& costs) {
+  check_input_file(file, "the cost file");
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + ": cannot open the cost file");
   std::stringstream text;

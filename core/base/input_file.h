@@ -1,0 +1,17 @@
+// Input files must be regular files. A FIFO given as a probe, configuration, view or
+// trace file blocked for ever; /dev/zero or /dev/urandom was read until std::bad_alloc
+// without naming the file. Every reader checks its file here before opening it (scene
+// files, already checked by their loaders, too).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace hrad {
+
+/// Throws InputError(path, 0, "... does not exist" / "... is not a regular file (a
+/// folder, a FIFO or a device)") unless `path` names a regular file (or a link to one).
+/// `what` names the file's role in the message ("the probe file").
+void check_input_file(const std::filesystem::path& path, const std::string& what = "the file");
+
+}  // namespace hrad
