@@ -42,14 +42,53 @@ TEST_F(InputFiles, FifosDevicesAndFoldersAreRefusedByName) {
     refused("reference builtin:cornell --probes " + f + " --out ref",
             f + ": the probe file is not a regular file " + kind);
   }
-  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status,
-            0);
+  ASSERT_EQ(
+      hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status, 0);
   refused("simulate t.trace --procs 2 --costs pipe", "pipe: the cost file is not a regular file");
   refused("simulate t.trace --procs 2 --measured /dev/urandom",
           "/dev/urandom: the stats file is not a regular file (a device)");
   refused("compare run pipe", "pipe: the probe table is not a regular file (a FIFO)");
   refused("solve builtin:cornell --probes run --out run2",
           "run: the probe file is not a regular file (a folder)");
+}
+
+}  // namespace
+
+namespace {
+
+// A UTF-8 byte-order mark at the start of an OBJ, MTL, MGF, probe or view file broke
+// its first line; now each reads as it does without one.
+TEST_F(InputFiles, AByteOrderMarkIsSkipped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::string obj =
+      "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+      "usemtl wall\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\n"
+      "usemtl light\nf 1 4 8 5\n";
+  const std::string mtl = "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n";
+  const std::string probes = "0.5 0.5 0.001 0 0 1\n";
+  const std::string view = "eye 0.5 0.5 0.9\nlook 0.5 0.5 0\nup 0 1 0\n";
+  const std::string mgf =
+      "m w =\n c\n rd 0.5\n ed 100\nv a =\n p 0 0 0\nv b =\n p 1 0 0\nv c =\n p 0 1 0\nf a b c\n";
+  for (const bool with : {false, true}) {
+    const std::string b = with ? bom : "";
+    const std::string d = with ? "with" : "without";
+    std::filesystem::create_directories(dir_ / d);
+    write(d + "/box.obj", b + obj);
+    write(d + "/box.mtl", b + mtl);
+    write(d + "/p.txt", b + probes);
+    write(d + "/v.view", b + view);
+    write(d + "/t.mgf", b + mgf);
+    const Result r = hrad("solve " + d + "/box.obj --iterations 1 --probes " + d +
+                          "/p.txt --view " + d + "/v.view --out " + d + "/run --quiet");
+    EXPECT_EQ(r.status, 0) << d << ": " << r.err;
+    const Result m = hrad("solve " + d + "/t.mgf --iterations 1 --out " + d + "/mgf --quiet");
+    EXPECT_EQ(m.status, 0) << d << ": " << m.err;
+  }
+  EXPECT_EQ(hrad::test::read_text(dir_ / "with" / "run" / "probes.csv"),
+            hrad::test::read_text(dir_ / "without" / "run" / "probes.csv"));
+  EXPECT_EQ(hrad::test::read_text(dir_ / "with" / "mgf" / "solution.ply"),
+            hrad::test::read_text(dir_ / "without" / "mgf" / "solution.ply"));
+  EXPECT_EQ(hrad("compare with/run with/run/probes.csv").status, 0);
 }
 
 }  // namespace

@@ -6,17 +6,23 @@
 
 namespace hrad {
 
+std::string without_bom(std::string text) {
+  if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+  return text;
+}
+
 void check_input_file(const std::filesystem::path& path, const std::string& what) {
   std::error_code ec;
   const std::filesystem::file_status s = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(s)) throw InputError(path.string(), 0, what + " does not exist");
+  if (ec || !std::filesystem::exists(s))
+    throw InputError(path.string(), 0, what + " does not exist");
   if (!std::filesystem::is_regular_file(s))
     throw InputError(path.string(), 0,
                      what + " is not a regular file (" +
-                         (std::filesystem::is_directory(s)  ? "a folder"
-                          : std::filesystem::is_fifo(s)     ? "a FIFO"
-                          : std::filesystem::is_socket(s)   ? "a socket"
-                                                            : "a device") +
+                         (std::filesystem::is_directory(s) ? "a folder"
+                          : std::filesystem::is_fifo(s)    ? "a FIFO"
+                          : std::filesystem::is_socket(s)  ? "a socket"
+                                                           : "a device") +
                          "): give a file");
 }
 

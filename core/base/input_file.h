@@ -9,6 +9,11 @@
 
 namespace hrad {
 
+/// A text file's UTF-8 byte-order mark, if it starts with one, removed: editors on
+/// Windows write one, and it broke the first line of OBJ, MTL, MGF, probe and view
+/// files (JSON parsers skip it already).
+std::string without_bom(std::string text);
+
 /// Throws InputError(path, 0, "... does not exist" / "... is not a regular file (a
 /// folder, a FIFO or a device)") unless `path` names a regular file (or a link to one).
 /// `what` names the file's role in the message ("the probe file").

@@ -116,6 +116,7 @@ CameraSpec read_view_file(const std::filesystem::path& path) {
   int eye_line = 0, look_line = 0, up_line = 0, fov_line = 0;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
+    if (number == 1) line = without_bom(std::move(line));
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     std::istringstream words(line);
     std::string keyword;

@@ -1,4 +1,5 @@
 #include "core/scene/obj_reader.h"
+#include "core/base/input_file.h"
 
 #include <fmt/format.h>
 
@@ -544,7 +545,7 @@ std::string read_text(const std::string& path, const std::string& err_file, int 
   text << in.rdbuf();
   if (!in.good() && !in.eof())
     throw InputError(err_file, err_line, fmt::format("cannot read {}", what));
-  return std::move(text).str();
+  return without_bom(std::move(text).str());
 }
 
 /// The files one mtllib statement names: the whole rest of the line when that is a

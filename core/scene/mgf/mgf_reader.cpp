@@ -2,6 +2,7 @@
 // transform contexts, expands includes and transform arrays, and feeds polygons to
 // SceneBuilder. Entity table and conventions: mgf_reader.h.
 #include "core/scene/mgf/mgf_reader.h"
+#include "core/base/input_file.h"
 
 #include "core/scene/mgf/cie_observer.h"
 #include "core/scene/mgf/mgf_color.h"
@@ -372,7 +373,7 @@ const Source& MgfParser::load(const fs::path& p, const SourceLoc& at) {
   auto src = std::make_unique<Source>();
   src->path = p.string();
   src->dir = p.parent_path();
-  src->owned = std::move(ss).str();
+  src->owned = without_bom(std::move(ss).str());
   src->text = src->owned;
   src->entities = split_entities(src->text);
   return *sources_.emplace(key, std::move(src)).first->second;
@@ -830,7 +831,7 @@ Scene read_mgf(const std::string& path, const MgfOptions& options) {
   std::ostringstream ss;
   ss << in.rdbuf();
   MgfParser p(fs::path(path).stem().string(), path, options);
-  p.run_main(make_source(path, fs::path(path).parent_path(), std::move(ss).str(), {}));
+  p.run_main(make_source(path, fs::path(path).parent_path(), without_bom(std::move(ss).str()), {}));
   return p.finish(path);
 }
 
