@@ -99,6 +99,37 @@ TEST_F(HostileInput, EmissionBeyondWhatResultsCanHoldIsRejected) {
   EXPECT_FALSE(fs::exists(dir_ / "run"));
 }
 
+// Ke 1e-310 refined without bound (eps x emitted power underflowed; 0.9 GB in 30 s) and
+// Ke 1e-300 wrote a mesh of zeros. Below a clear lower limit the emission is refused,
+// quoted as written; above it the solution scales with the emission, link for link.
+TEST_F(HostileInput, EmissionBelowWhatResultsCanHoldIsRejected) {
+  write("box.obj", box_obj(""));
+  write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1e-310\n");
+  Result r = hrad("solve box.obj --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "box.mtl:5: material 'light': Ke 1e-310 is too small")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "run"));
+  r = hrad("solve builtin:cornell?light=1e-300 --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "emission (1.5e-299, 1.5e-299, 1.5e-299) is below 1e-20")) << r.err;
+  write("p.txt", "2.78 0.001 2.79 0 1 0\n0.001 2.74 2.79 1 0 0\n");
+  ASSERT_EQ(hrad("solve builtin:cornell --probes p.txt --out one --quiet").status, 0);
+  ASSERT_EQ(hrad("solve builtin:cornell?light=1e-18 --probes p.txt --out small --quiet").status, 0);
+  const auto links = [&](const char* d) {
+    return nlohmann::json::parse(hrad::test::read_text(dir_ / d / "stats.json"))["totals"]["links"];
+  };
+  EXPECT_EQ(links("one"), links("small"));
+  const auto first_e = [&](const char* d) {
+    const std::string csv = hrad::test::read_text(dir_ / d / "probes.csv");
+    const std::size_t row = csv.find('\n') + 1;
+    std::size_t col = row;
+    for (int k = 0; k < 6; ++k) col = csv.find(',', col) + 1;
+    return std::stod(csv.substr(col));
+  };
+  EXPECT_GT(first_e("one"), 0);
+  EXPECT_NEAR(first_e("small") * 1e18, first_e("one"), 1e-6 * first_e("one"));
+}
+
 // rho = 1 in a closed scene has no finite solution; it ran to the sweep cap silently.
 TEST_F(HostileInput, TotalReflectanceIsReported) {
   const Result r = hrad(

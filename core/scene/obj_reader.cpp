@@ -414,6 +414,13 @@ void add_materials(const MtlText& mtl, SceneBuilder& b,
           fmt::format("material '{}': Ke {} is too large: its exitance pi x Ke must not exceed "
                       "{:g} (results are 32-bit floats, and interreflection multiplies it)",
                       blk.name, as_written(blk.ke_text, blk.ke_grey), kMaxExitance));
+    if (const double top = *std::max_element(blk.ke.begin(), blk.ke.end());
+        blk.ke_line > 0 && top > 0 && top * std::numbers::pi < kMinExitance)
+      throw InputError(mtl.file, blk.ke_line,
+                       fmt::format("material '{}': Ke {} is too small: its exitance pi x Ke must "
+                                   "be at least {:g} (results are 32-bit floats; the solution "
+                                   "scales with the emission: give it in larger units)",
+                                   blk.name, as_written(blk.ke_text, blk.ke_grey), kMinExitance));
     if (blk.kd_line == 0) ++without_kd;
     const Rgb& r = mat.reflectance;
     const bool rho_ok = r.isFinite().all() && (r >= 0).all() && (r <= 1).all();

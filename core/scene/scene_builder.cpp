@@ -44,6 +44,13 @@ std::uint32_t SceneBuilder::add_material(Material m, const SourceLoc& at) {
     throw InputError(at.file, at.line,
                      fmt::format("material '{}': emission ({}, {}, {}) is negative or not finite",
                                  m.name, m.emission[0], m.emission[1], m.emission[2]));
+  if (const double top = m.emission.maxCoeff(); top > 0 && top < kMinExitance)
+    throw InputError(
+        at.file, at.line,
+        fmt::format("material '{}': emission ({:g}, {:g}, {:g}) is below {:g} (results are "
+                    "32-bit floats; the solution scales with the emission: give it in larger "
+                    "units)",
+                    m.name, m.emission[0], m.emission[1], m.emission[2], kMinExitance));
   if ((m.emission > kMaxExitance).any())
     throw InputError(
         at.file, at.line,

@@ -27,6 +27,11 @@ struct SourceLoc {
 /// emission by up to 1 / (1 - rho); 1e30 leaves room for both. (Ke 1e40 solved with
 /// exit 0 and wrote inf into solution.ply.)
 inline constexpr double kMaxExitance = 1e30;
+/// Smallest non-zero exitance (largest channel) a material may have: below it the
+/// results would leave what 32-bit floats hold (Ke 1e-300 wrote a mesh of zeros) and
+/// the refinement threshold, eps x emitted power, underflowed (Ke 1e-310 refined
+/// without bound). The solution scales with the emission: give it in larger units.
+inline constexpr double kMinExitance = 1e-20;
 
 class SceneBuilder {
  public:
