@@ -34,6 +34,30 @@ TEST(Hierarchy, ClustersCoverEveryPolygonOnceWithConsistentAreas) {
   EXPECT_NEAR(h.root().area, scene.total_area(), 1e-9 * scene.total_area());
 }
 
+// The bounding sphere (centre, radius()) holds every corner of the element's box. It was
+// the larger distance to box.lo and box.hi only, and a cluster whose area-weighted
+// centre sits off its box's diagonal (a room's half in one cluster with an octant of a
+// sphere around the room) looked smaller than it is: a pair with it passed as far field,
+// and a link from the sphere octant's centre carried the room's light at the octant's
+// mean radiosity (the room lost 24 % of its light; tests/two_sided_test.cpp has the room).
+TEST(Hierarchy, BoundingSphereHoldsEveryBoxCorner) {
+  Element e;
+  e.box.extend(Vec3(0, 0, 0));
+  e.box.extend(Vec3(10, 1, 1));
+  e.center = Vec3(9, 0.9, 0.1);                     // near the (hi, hi, lo) corner
+  const double corners = Vec3(9, 0.9, 0.9).norm();  // to (lo, lo, hi)
+  EXPECT_NEAR(e.radius(), corners, 1e-12);
+  const Scene scene = make_builtin("builtin:lab");
+  Hierarchy h(scene, 1);
+  for (const Element* c : h.elements())
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 corner((k & 1) ? c->box.hi.x() : c->box.lo.x(),
+                        (k & 2) ? c->box.hi.y() : c->box.lo.y(),
+                        (k & 4) ? c->box.hi.z() : c->box.lo.z());
+      ASSERT_LE((corner - c->center).norm(), c->radius() * (1 + 1e-12));
+    }
+}
+
 TEST(Hierarchy, SubdivisionTilesTheParentAndIsAPureFunction) {
   SceneBuilder b("t", "t");
   const auto m = b.add_material(test::material(0.5, 1), {"t", 0});

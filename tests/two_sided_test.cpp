@@ -202,6 +202,38 @@ TEST(TwoSidedPlate, AnEmittersBackFaceIsDarkByDefault) {
 
 const SceneLoadOptions kBothEmit{Sides::Auto, 0, EmitterSides::Both};
 
+// A closed two-sided room (MGF defaults) inside a sphere of radius 100 around it: the
+// room's light must stay what it is without the sphere. The sphere's area (min_area
+// relative to it leaves the room's walls whole) and its clusters (an octant of the
+// sphere in one with half the room) were what the room's light went through: it lost
+// 24 % (a bounding radius that missed box corners let such a pair pass as far field).
+TEST(TwoSidedRoom, ASphereAroundTheRoomTakesNoLightFromIt) {
+  const std::string room =
+      "m wall =\n c\n rd 0.7\nm light =\n c\n rd 0\n ed 179\nm far =\n c\n rd 0.5\n"
+      "v a =\n p 0 0 0\nv b =\n p 1 0 0\nv c =\n p 1 1 0\nv d =\n p 0 1 0\n"
+      "v e =\n p 0 0 1\nv f =\n p 1 0 1\nv g =\n p 1 1 1\nv h =\n p 0 1 1\n"
+      "m wall\nf a b c d\nf e h g f\nf a e f b\nf b f g c\nf c g h d\nm light\nf a d h e\n";
+  const std::vector<Probe> probes = {{{0.5, 0.5, 1 - 1e-5}, {0, 0, -1}},
+                                     {{0.5, 1e-5, 0.5}, {0, 1, 0}},
+                                     {{0.5, 0.5, 0.5}, {0, 0, 1}}};
+  const auto solve = [&](const std::string& text, double min_area) {
+    const Scene s = parse_mgf(text, "room.mgf");
+    Scene with_backs = s;
+    add_back_faces(with_backs, Sides::Auto);
+    SolverOptions o;
+    o.min_area = min_area;
+    Solver solver(with_backs, o);
+    solver.run();
+    return solver.probe_irradiance(probes);
+  };
+  // The room alone with its walls whole (as the sphere's area leaves them).
+  const std::vector<Rgb> alone = solve(room, 1.0);
+  const std::vector<Rgb> inside =
+      solve(room + "m far\nv o =\n p 0.5 0.5 0.5\nsph o 100\n", SolverOptions{}.min_area);
+  for (std::size_t i = 0; i < probes.size(); ++i)
+    EXPECT_NEAR(inside[i][0], alone[i][0], 0.02 * alone[i][0]) << i;
+}
+
 TEST(TwoSidedPlate, BackSideGetsTheLightOfItsOwnSide) {
   // emitter_sides = both: the back face emits too, and receives nothing.
   const Scene scene = load_scene(kPlate, kBothEmit);

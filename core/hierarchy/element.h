@@ -96,9 +96,11 @@ struct Element {
            static_cast<double>(dir_area[static_cast<std::size_t>(2 * i + (d[i] < 0))]);
     return p;
   }
-  /// Radius of the bounding sphere around `center` (a cheap size for near-field tests).
+  /// Radius of the bounding sphere around `center` (a cheap size for near-field tests):
+  /// the distance to the box's farthest corner, which for an off-centre `center` (a
+  /// cluster's area-weighted centre) need not be box.lo or box.hi.
   [[nodiscard]] double radius() const {
-    return std::max((box.hi - center).norm(), (box.lo - center).norm());
+    return (box.hi - center).cwiseAbs().cwiseMax((center - box.lo).cwiseAbs()).norm();
   }
 };
 
