@@ -130,6 +130,29 @@ TEST_F(HostileInput, EmissionBelowWhatResultsCanHoldIsRejected) {
   EXPECT_NEAR(first_e("small") * 1e18, first_e("one"), 1e-6 * first_e("one"));
 }
 
+// A 0.1-unit triangle 30,000 units from a closed unit room halved the room's indirect
+// light without a word: the ray tolerances, relative to the bounding box, made the
+// room's opposite walls contacts. The run now says so; a scene whose geometry is where
+// its area is gets no such warning.
+TEST_F(HostileInput, FarOffGeometryIsReported) {
+  write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
+  write("box.obj", box_obj("") +
+                       "v 30000 30000 30000\nv 30000.1 30000 30000\n"
+                       "v 30000 30000.1 30000\nf 9 10 11\n");
+  Result r = hrad("solve box.obj --iterations 1 --out run --quiet");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err,
+                       "98 % of the scene's area lies within 1.73 units, but its bounding "
+                       "box is 5.2e+04 across"))
+      << r.err;
+  EXPECT_TRUE(contains(hrad::test::read_text(dir_ / "run" / "stats.json"), "remove the far-off"));
+  write("box.obj", box_obj(""));
+  r = hrad("solve box.obj --iterations 1 --out run2 --quiet");
+  EXPECT_FALSE(contains(r.err, "98 %")) << r.err;
+  r = hrad("solve builtin:office --eps 1 --iterations 1 --out run3 --quiet");
+  EXPECT_FALSE(contains(r.err, "98 %")) << r.err;
+}
+
 // rho = 1 in a closed scene has no finite solution; it ran to the sweep cap silently.
 TEST_F(HostileInput, TotalReflectanceIsReported) {
   const Result r = hrad(

@@ -27,6 +27,42 @@ Aabb Scene::bounds() const {
   return b;
 }
 
+Aabb Scene::bulk_bounds(double share) const {
+  Aabb b;
+  if (faces.empty()) return b;
+  std::vector<std::pair<double, double>> at(faces.size());  // (coordinate, area)
+  std::vector<Vec3> centre(faces.size());
+  std::vector<double> area(faces.size());
+  double total = 0;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    centre[f] = polygon_centroid(face_vertices(f));
+    area[f] = face_area(f);
+    total += area[f];
+  }
+  if (!(total > 0)) return bounds();
+  for (int axis = 0; axis < 3; ++axis) {
+    for (std::size_t f = 0; f < faces.size(); ++f) at[f] = {centre[f][axis], area[f]};
+    std::sort(at.begin(), at.end());
+    const double lo = 0.5 * (1 - share) * total, hi = 0.5 * (1 + share) * total;
+    double sum = 0;
+    b.lo[axis] = at.front().first;
+    b.hi[axis] = at.back().first;
+    bool low_set = false;
+    for (const auto& [x, a] : at) {
+      sum += a;
+      if (!low_set && sum >= lo) {
+        b.lo[axis] = x;
+        low_set = true;
+      }
+      if (sum >= hi) {
+        b.hi[axis] = x;
+        break;
+      }
+    }
+  }
+  return b;
+}
+
 double Scene::total_area() const {
   double a = 0;
   for (std::size_t f = 0; f < faces.size(); ++f) a += face_area(f);

@@ -48,6 +48,8 @@ namespace {
 // sees darker receivers: 36,773 -> 40,458 links, probe error median 1.50 -> 1.47 %,
 // worst 16.0 -> 15.1 %, the same time.
 constexpr double kIntermediateTolerance = 1e-3;
+// warn_about_scene: a bounding box more than this many times the bulk of the area.
+constexpr double kBulkRatioWarning = 100;
 
 /// max_memory_gb in bytes; 0 gives three quarters of the physical memory (sysconf), and
 /// no limit where that cannot be read.
@@ -269,6 +271,16 @@ void Solver::Impl::warn_about_scene(RunStats& stats) const {
                                      "effects = all)"
                                    : "scene has no emitter: the solution is zero; nothing was "
                                      "refined or propagated");
+  // Ray tolerances (and Embree's float precision) are relative to the bounding box: a
+  // little geometry far from the rest (a triangle 30,000 units from a unit room) makes
+  // them coarse where the area is, and the room's walls took each other for contacts.
+  const double whole = scene.bounds().diagonal(), bulk = scene.bulk_bounds().diagonal();
+  if (bulk > 0 && whole > kBulkRatioWarning * bulk)
+    stats.warnings.push_back(fmt::format(
+        "98 % of the scene's area lies within {:.3g} units, but its bounding box is {:.3g} "
+        "across ({:.0f} times more): ray tolerances and float precision are relative to the "
+        "whole box, too coarse for the bulk of the scene; remove the far-off geometry",
+        bulk, whole, whole / bulk));
   // B = E + rho K B has no finite solution when rho K can keep all light (rho = 1 in a
   // closed scene): the sweeps then never converge; the propagation reports divergence
   // when the change stops falling (core/solver/propagation.h), or stops at the cap.
