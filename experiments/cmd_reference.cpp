@@ -111,14 +111,19 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
 
     nlohmann::json unconverged = nlohmann::json::array();
     nlohmann::json per_probe = nlohmann::json::array();
-    std::uint64_t total = 0;
+    std::uint64_t total = 0, truncated = 0;
+    std::size_t truncated_probes = 0;
     for (std::size_t i = 0; i < probes.size(); ++i) {
       const ProbeEstimate& e = r.probes[i];
       total += e.samples;
+      truncated += e.truncated;
+      truncated_probes += e.truncated > 0;
       if (!e.converged) unconverged.push_back(i);
       const Rgb rel = e.std_error / e.irradiance.abs().max(r.floor);
-      per_probe.push_back(
-          {{"samples", e.samples}, {"converged", e.converged}, {"relative_se", rel.maxCoeff()}});
+      per_probe.push_back({{"samples", e.samples},
+                           {"converged", e.converged},
+                           {"relative_se", rel.maxCoeff()},
+                           {"truncated_paths", e.truncated}});
     }
     const nlohmann::json j = {
         {"hrad", {{"version", kVersion}, {"git_revision", git_revision()}}},
@@ -152,17 +157,26 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
         {"per_probe", per_probe},
     };
     write_json_atomically(out / "reference.json", j);
+    if (truncated > 0)
+      fmt::print(stderr,
+                 "hrad: warning: {} path(s) at {} probe(s) reached {} bounces and were cut: the "
+                 "scene keeps (nearly) all the light it receives (reflectance 1 in a closed "
+                 "scene has no finite solution); those probes' values are truncated sums, "
+                 "marked unconverged\n",
+                 truncated, truncated_probes, PathTracer::kMaxBounces);
 
-    if (!unconverged.empty()) {
-      std::string list;
-      for (const auto& i : unconverged)
+    std::string list;  // unconverged for want of samples (not cut paths)
+    std::size_t short_of_samples = 0;
+    for (const auto& i : unconverged)
+      if (r.probes[i.get<std::size_t>()].truncated == 0) {
         list += (list.empty() ? "" : ", ") + std::to_string(i.get<std::size_t>());
+        ++short_of_samples;
+      }
+    if (short_of_samples > 0)
       fmt::print(stderr,
                  "hrad: warning: {} of {} probes did not reach relative error {} within {} "
                  "samples (0-based): {}\n",
-                 unconverged.size(), probes.size(), a.options.rel_error, a.options.max_samples,
-                 list);
-    }
+                 short_of_samples, probes.size(), a.options.rel_error, a.options.max_samples, list);
     if (!a.quiet)
       fmt::print(
           "Reference for {}: {} probes, {} paths, {} rays in {:.3g} s ({} round{}), {} "

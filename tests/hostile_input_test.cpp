@@ -153,6 +153,24 @@ TEST_F(HostileInput, FarOffGeometryIsReported) {
   EXPECT_FALSE(contains(r.err, "98 %")) << r.err;
 }
 
+// The reference tracer reported finite, "converged" values (E about 4000 at 0.3 %) for
+// a closed furnace of reflectance 1, whose answer is infinite: its paths never end but
+// at the bounce cap. Paths cut there now mark their probes unconverged, with a warning.
+TEST_F(HostileInput, AReferenceWithoutAFiniteAnswerSaysSo) {
+  Result r = hrad("reference builtin:furnace?rho=1 --random-probes 2 --out ref --quiet");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "reached 4096 bounces and were cut")) << r.err;
+  EXPECT_FALSE(contains(r.err, "within")) << r.err;  // not for want of samples
+  const auto j = nlohmann::json::parse(hrad::test::read_text(dir_ / "ref" / "reference.json"));
+  EXPECT_FALSE(j["converged"].get<bool>());
+  EXPECT_GT(j["per_probe"][0]["truncated_paths"].get<int>(), 0);
+  r = hrad("reference builtin:furnace?rho=0.9 --random-probes 2 --out ref2 --quiet");
+  EXPECT_FALSE(contains(r.err, "bounces")) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(hrad::test::read_text(
+                dir_ / "ref2" / "reference.json"))["per_probe"][0]["truncated_paths"],
+            0);
+}
+
 // rho = 1 in a closed scene has no finite solution; it ran to the sweep cap silently.
 TEST_F(HostileInput, TotalReflectanceIsReported) {
   const Result r = hrad(

@@ -132,11 +132,12 @@ Rgb PathTracer::direct(const Vec3& x, const Vec3& n, std::uint32_t face, Rng& rn
   return scene_.face_material(e.face).emission * (cos_x / (std::numbers::pi * (p_l + p_b)));
 }
 
-Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth) const {
+Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth, bool& cut) const {
   Rgb sum = Rgb::Zero();
   Rgb beta = Rgb::Ones();
   Vec3 x = probe.p, n = probe.n;
   std::uint32_t face = RayScene::kNoPolygon;  // the polygon x lies on
+  cut = true;                                 // unless the loop ends before kMaxBounces
   for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
     sum += beta * direct(x, n, face, rng);
     // Cosine-weighted direction around n.
@@ -147,10 +148,10 @@ Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth) const {
         r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - r * r)) * n;
     const std::optional<RayHit> hit =
         rays_.intersect(x, dir, std::numeric_limits<double>::infinity(), face);
-    if (!hit) break;
+    if (!hit) return cut = false, sum;
     const Vec3& nf = normals_[hit->prim];
     const double cos_y = -dir.dot(nf);
-    if (cos_y <= 0) break;  // the back of a polygon is black
+    if (cos_y <= 0) return cut = false, sum;  // the back of a polygon is black
     const Vec3 y = x + hit->t * dir;
     const Material& m = scene_.face_material(hit->prim);
     if (m.emits()) {
@@ -161,10 +162,10 @@ Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth) const {
       if (p_b > 0) sum += beta * m.emission * (p_b / (p_b + p_l));
     }
     beta *= m.reflectance;
-    if (!(beta > 0).any()) break;
+    if (!(beta > 0).any()) return cut = false, sum;
     if (bounce + 1 >= rr_depth) {
       const double q = std::min(1.0, beta.maxCoeff());
-      if (rng.uniform() >= q) break;
+      if (rng.uniform() >= q) return cut = false, sum;
       beta /= q;
     }
     x = y;
@@ -175,10 +176,15 @@ Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth) const {
 }
 
 Rgb PathTracer::batch_mean(const Probe& probe, std::uint64_t seed, std::uint64_t stream,
-                           std::uint64_t batch, int paths, int rr_depth) const {
+                           std::uint64_t batch, int paths, int rr_depth,
+                           std::uint64_t* truncated) const {
   Rng rng(seed, stream, batch);
   Rgb sum = Rgb::Zero();
-  for (int k = 0; k < paths; ++k) sum += trace(probe, rng, rr_depth);
+  for (int k = 0; k < paths; ++k) {
+    bool cut = false;
+    sum += trace(probe, rng, rr_depth, cut);
+    if (cut && truncated) ++*truncated;
+  }
   return sum / static_cast<double>(std::max(paths, 1));
 }
 
@@ -200,6 +206,7 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes, const PathTr
 
   // Per probe: the batch means in batch order, and how many batches it should have.
   std::vector<std::vector<Rgb>> means(np);
+  std::vector<std::vector<std::uint64_t>> cut(np);  // truncated paths per batch
   std::vector<std::uint64_t> target(np, static_cast<std::uint64_t>(o.min_batches));
   std::vector<char> done(np, 0);
   ReferenceResult res;
@@ -214,6 +221,7 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes, const PathTr
     for (std::size_t i = 0; i < np; ++i) {
       if (done[i]) continue;
       means[i].resize(target[i]);
+      cut[i].resize(target[i]);
       for (std::uint64_t b = res.probes[i].samples / o.batch_size; b < target[i]; ++b)
         work.push_back({static_cast<std::uint32_t>(i), b});
     }
@@ -224,8 +232,8 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes, const PathTr
     for (std::ptrdiff_t w = 0; w < nw; ++w) {
       if (interrupted()) continue;  // the rest of the round is skipped, then abandoned
       const Work& k = work[static_cast<std::size_t>(w)];
-      means[k.probe][k.batch] =
-          batch_mean(probes[k.probe], o.seed, k.probe, k.batch, o.batch_size, o.rr_depth);
+      means[k.probe][k.batch] = batch_mean(probes[k.probe], o.seed, k.probe, k.batch, o.batch_size,
+                                           o.rr_depth, &cut[k.probe][k.batch]);
     }
     throw_if_interrupted();
 
@@ -243,6 +251,8 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes, const PathTr
       e.irradiance = m;
       e.std_error = (var / nb).sqrt();
       e.samples = means[i].size() * static_cast<std::uint64_t>(o.batch_size);
+      e.truncated = 0;
+      for (const std::uint64_t t : cut[i]) e.truncated += t;
       floor_sum += m.abs();
     }
     res.floor = o.abs_floor > 0
@@ -258,9 +268,10 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes, const PathTr
         if (e.std_error[c] > 0)
           ratio = std::max(ratio, allowed[c] > 0 ? e.std_error[c] / allowed[c]
                                                  : std::numeric_limits<double>::infinity());
-      e.converged = ratio <= 1;
+      e.converged = ratio <= 1 && e.truncated == 0;
       const std::uint64_t nb = means[i].size();
-      done[i] = e.converged || nb >= max_batches;  // a floor change may reopen a probe
+      // A floor change may reopen a probe; one with truncated paths has no finite answer.
+      done[i] = e.converged || nb >= max_batches || e.truncated > 0;
       if (!done[i]) {
         // SE ~ 1/sqrt(batches): predict the batches needed, with 10% margin.
         const double want = std::isfinite(ratio) ? 1.1 * ratio * ratio * static_cast<double>(nb)

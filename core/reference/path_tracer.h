@@ -63,7 +63,11 @@ struct ProbeEstimate {
   Rgb irradiance = Rgb::Zero();  ///< mean over all paths (W per unit area)
   Rgb std_error = Rgb::Zero();   ///< standard error of that mean, per channel
   std::uint64_t samples = 0;     ///< paths traced
-  bool converged = false;        ///< the relative-error target was met
+  /// Paths cut at kMaxBounces: the scene keeps (nearly) all the light it receives
+  /// (reflectance 1 in a closed scene has no finite solution), and the estimate is a
+  /// truncated sum. Such a probe is never converged, and is not sampled further.
+  std::uint64_t truncated = 0;
+  bool converged = false;  ///< the relative-error target was met
 };
 
 struct ReferenceResult {
@@ -86,8 +90,10 @@ class PathTracer {
 
   /// One independent batch: the mean of `paths` single-path estimates at `probe` with
   /// the generator seeded by (seed, stream, batch). Thread-safe.
+  /// `truncated`, when given, gets the number of paths cut at kMaxBounces.
   [[nodiscard]] Rgb batch_mean(const Probe& probe, std::uint64_t seed, std::uint64_t stream,
-                               std::uint64_t batch, int paths, int rr_depth = 3) const;
+                               std::uint64_t batch, int paths, int rr_depth = 3,
+                               std::uint64_t* truncated = nullptr) const;
 
   /// Estimates every probe until converged or out of samples (see the file comment).
   /// Throws std::invalid_argument for options out of range.
@@ -110,7 +116,8 @@ class PathTracer {
   /// Solid-angle density at x of next-event estimation choosing point z on `face`.
   double light_pdf(std::uint32_t face, const Vec3& x, const Vec3& z) const;
   Vec3 sample_on_face(std::uint32_t face, Rng& rng) const;
-  Rgb trace(const Probe& probe, Rng& rng, int rr_depth) const;
+  /// One path's estimate; `cut`: it reached kMaxBounces.
+  Rgb trace(const Probe& probe, Rng& rng, int rr_depth, bool& cut) const;
 
   const Scene& scene_;
   RayScene rays_;
