@@ -56,6 +56,23 @@ TEST_F(InputFiles, FifosDevicesAndFoldersAreRefusedByName) {
 
 namespace {
 
+// --set trace=FILE overwrote any file, the input scene included, and only at the end of
+// the run; now a file that is not an hrad trace is refused before anything is made, and
+// an earlier trace is replaced.
+TEST_F(InputFiles, ATraceNeverOverwritesAnotherFile) {
+  const std::string scene = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  write("tri.obj", scene);
+  Result r = hrad("solve tri.obj --set trace=tri.obj --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "tri.obj: trace: the file exists and is not an hrad trace")) << r.err;
+  EXPECT_EQ(hrad::test::read_text(dir_ / "tri.obj"), scene);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "run"));
+  r = hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out a --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out b --quiet");
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
 // A UTF-8 byte-order mark at the start of an OBJ, MTL, MGF, probe or view file broke
 // its first line; now each reads as it does without one.
 TEST_F(InputFiles, AByteOrderMarkIsSkipped) {

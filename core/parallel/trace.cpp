@@ -1,7 +1,8 @@
 #include "core/parallel/trace.h"
-#include "core/base/input_file.h"
 
 #include "core/base/atomic_file.h"
+#include "core/base/input_error.h"
+#include "core/base/input_file.h"
 
 #include <bit>
 #include <fstream>
@@ -19,6 +20,22 @@ void write_trace(const std::filesystem::path& path, const std::string& header_js
     out.write(reinterpret_cast<const char*>(records.data()),
               static_cast<std::streamsize>(records.size() * sizeof(TraceRecord)));
   });
+}
+
+void check_trace_target(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(path.string(), 0, "trace: not a regular file; give a new file's name");
+  std::ifstream in(path, std::ios::binary);
+  std::string header(1 << 16, '\0');  // the header line, or its start
+  in.read(header.data(), static_cast<std::streamsize>(header.size()));
+  header.resize(static_cast<std::size_t>(in.gcount()));
+  header = header.substr(0, header.find('\n'));
+  if (header.find("\"hrad-trace\"") == std::string::npos)
+    throw InputError(path.string(), 0,
+                     "trace: the file exists and is not an hrad trace: not overwritten (give a "
+                     "new file's name)");
 }
 
 std::vector<TraceRecord> read_trace(const std::filesystem::path& path, std::string* header_json) {

@@ -44,6 +44,11 @@ static_assert(sizeof(TraceRecord) == 32, "the file format is these 32 bytes");
 void write_trace(const std::filesystem::path& path, const std::string& header_json,
                  const std::vector<TraceRecord>& records);
 
+/// Throws InputError unless `path` may take a trace: it does not exist yet, or it is an
+/// hrad trace already (`--set trace=FILE` overwrote any file, the input scene
+/// included, and only after the whole run). Called before anything is made.
+void check_trace_target(const std::filesystem::path& path);
+
 /// Reads a file written by write_trace; throws std::runtime_error naming the file
 /// when it is not one.
 std::vector<TraceRecord> read_trace(const std::filesystem::path& path, std::string* header_json);

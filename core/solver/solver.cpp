@@ -178,6 +178,7 @@ struct Solver::Impl {
 
 Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress) {
   validate_options(options);
+  if (!options.trace.empty()) check_trace_target(options.trace);
   // Names are checked before the (possibly long) hierarchy build, against the
   // registries: nothing is built for the check (threads and block_size, which
   // make_scheduler also checks, are validate_options' part).
