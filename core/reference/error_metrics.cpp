@@ -1,9 +1,9 @@
 // Error metrics: see error_metrics.h.
 #include "core/reference/error_metrics.h"
-#include "core/base/input_file.h"
 
 #include "core/base/hash.h"
 #include "core/base/input_error.h"
+#include "core/base/input_file.h"
 #include "core/base/median.h"
 #include "core/raycast/ray_scene.h"
 

@@ -1,7 +1,7 @@
 #include "core/scene/camera_spec.h"
-#include "core/base/input_file.h"
 
 #include "core/base/input_error.h"
+#include "core/base/input_file.h"
 #include "core/base/json_input.h"
 #include "core/base/parse_number.h"
 

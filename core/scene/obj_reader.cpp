@@ -1,5 +1,4 @@
 #include "core/scene/obj_reader.h"
-#include "core/base/input_file.h"
 
 #include <fmt/format.h>
 
@@ -19,6 +18,7 @@
 #include <unordered_map>
 
 #include "core/base/input_error.h"
+#include "core/base/input_file.h"
 #include "core/scene/scene_builder.h"
 
 // tinyobjloader, compiled into this file in double precision under a private

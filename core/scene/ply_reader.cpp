@@ -1,8 +1,8 @@
 // Reader for hrad's own PLY layout: see ply_reader.h.
 #include "core/scene/ply_reader.h"
-#include "core/base/input_file.h"
 
 #include "core/base/input_error.h"
+#include "core/base/input_file.h"
 
 #include <fmt/format.h>
 

@@ -1,8 +1,8 @@
 #include "core/scene/probes.h"
-#include "core/base/input_file.h"
 
 #include "core/base/atomic_file.h"
 #include "core/base/input_error.h"
+#include "core/base/input_file.h"
 #include "core/scene/scene.h"
 
 #include <fmt/format.h>

@@ -1,6 +1,6 @@
 #include "experiments/harness/experiment_config.h"
-#include "core/base/input_file.h"
 
+#include "core/base/input_file.h"
 #include "core/base/json_input.h"
 #include "core/config/options_io.h"
 #include "oracles/oracle.h"

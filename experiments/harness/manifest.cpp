@@ -1,7 +1,7 @@
 #include "experiments/harness/manifest.h"
-#include "core/base/input_file.h"
 
 #include "core/base/atomic_file.h"
+#include "core/base/input_file.h"
 #include "core/base/json_input.h"
 #include "core/base/provenance.h"
 #include "core/parallel/topology.h"

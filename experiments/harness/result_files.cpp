@@ -1,7 +1,7 @@
 #include "experiments/harness/result_files.h"
-#include "core/base/input_file.h"
 
 #include "core/base/atomic_file.h"
+#include "core/base/input_file.h"
 #include "experiments/harness/csv.h"
 
 #include <fmt/format.h>

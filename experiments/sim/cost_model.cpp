@@ -1,6 +1,6 @@
 #include "experiments/sim/cost_model.h"
-#include "core/base/input_file.h"
 
+#include "core/base/input_file.h"
 #include "core/base/json_input.h"
 #include "schedulers/scheduler.h"
 

@@ -2,8 +2,8 @@
 // transform contexts, expands includes and transform arrays, and feeds polygons to
 // SceneBuilder. Entity table and conventions: mgf_reader.h.
 #include "core/scene/mgf/mgf_reader.h"
-#include "core/base/input_file.h"
 
+#include "core/base/input_file.h"
 #include "core/scene/mgf/cie_observer.h"
 #include "core/scene/mgf/mgf_color.h"
 #include "core/scene/mgf/mgf_context.h"
