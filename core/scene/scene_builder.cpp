@@ -1,5 +1,6 @@
 #include "core/scene/scene_builder.h"
 
+#include "core/scene/coplanar_overlap.h"
 #include "core/scene/self_overlap.h"
 
 #include <fmt/format.h>
@@ -224,6 +225,17 @@ Scene SceneBuilder::finish(const std::string& file) {
     warn(fmt::format("{} non-planar or non-convex polygon(s) triangulated", triangulated_faces_));
   if (scene_.faces.empty())
     throw InputError(file, 0, "the scene has no polygon with positive area");
+  // Reported when the shared area is more than 1e-3 of the scene's: builtin:office and
+  // builtin:lab hold a few hundred small overlaps of boxes (0.1 and 0.2 units² of 720 and
+  // 1,690), below that.
+  if (const CoplanarOverlaps o = find_coplanar_overlaps(scene_);
+      o.pairs > 0 && o.area > kCoplanarOverlapShare * scene_.total_area())
+    warn(
+        fmt::format("{} pair(s) of faces lie in one plane, face the same way and overlap ({:.3g} "
+                    "units² in common; the first near ({:.4g}, {:.4g}, {:.4g})): each is solved "
+                    "as its own surface, so the area they share reflects and emits twice; give "
+                    "each surface once",
+                    o.pairs, o.area, o.first.x(), o.first.y(), o.first.z()));
   if (scene_.emitter_count() == 0) warn("no face emits light: the solution is zero everywhere");
   return std::move(scene_);
 }

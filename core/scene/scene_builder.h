@@ -32,6 +32,9 @@ inline constexpr double kMaxExitance = 1e30;
 /// the refinement threshold, eps x emitted power, underflowed (Ke 1e-310 refined
 /// without bound). The solution scales with the emission: give it in larger units.
 inline constexpr double kMinExitance = 1e-20;
+/// Coplanar faces facing the same way that share more than this share of the scene's
+/// area are reported (core/scene/coplanar_overlap.h).
+inline constexpr double kCoplanarOverlapShare = 1e-3;
 
 class SceneBuilder {
  public:
