@@ -151,6 +151,13 @@ TEST_F(HostileInput, FarOffGeometryIsReported) {
   EXPECT_FALSE(contains(r.err, "98 %")) << r.err;
   r = hrad("solve builtin:office --eps 1 --iterations 1 --out run3 --quiet");
   EXPECT_FALSE(contains(r.err, "98 %")) << r.err;
+  // A large ground plane holds most of the area over its whole extent: no warning.
+  write("box.obj", box_obj("") +
+                       "v -100 -100 -0.01\nv 100 -100 -0.01\nv 100 100 -0.01\n"
+                       "v -100 100 -0.01\nf 9 10 11 12\n");
+  r = hrad("solve box.obj --iterations 1 --out run4 --quiet");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(contains(r.err, "98 %")) << r.err;
 }
 
 // The reference tracer reported finite, "converged" values (E about 4000 at 0.3 %) for

@@ -63,7 +63,9 @@ CoplanarOverlaps find_coplanar_overlaps(const Scene& scene) {
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     const Vec3 n = scene.face_normal(f);
     const double d = n.dot(scene.vertices[scene.indices[scene.faces[f].first]]);
-    const auto q = [](double x, double step) { return std::llround(x / step); };
+    const auto q = [](double x, double step) {  // clamped: llround of 1e30 has no value
+      return std::llround(std::clamp(x / step, -9e18, 9e18));
+    };
     planes[{q(n.x(), 1e-6), q(n.y(), 1e-6), q(n.z(), 1e-6), q(d, 1e-7 * diag)}].push_back(f);
   }
   for (const auto& [key, group] : planes) {

@@ -13,8 +13,8 @@
 namespace hrad {
 
 struct CoplanarOverlaps {
-  std::size_t pairs = 0;    ///< pairs of faces that share area
-  double area = 0;          ///< the area they share, summed over the pairs
+  std::size_t pairs = 0;      ///< pairs of faces that share area
+  double area = 0;            ///< the area they share, summed over the pairs
   Vec3 first = Vec3::Zero();  ///< the centroid of the first pair's first face
 };
 

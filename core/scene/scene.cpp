@@ -30,18 +30,21 @@ Aabb Scene::bounds() const {
 Aabb Scene::bulk_bounds(double share) const {
   Aabb b;
   if (faces.empty()) return b;
-  std::vector<std::pair<double, double>> at(faces.size());  // (coordinate, area)
-  std::vector<Vec3> centre(faces.size());
-  std::vector<double> area(faces.size());
+  // Each face's area is shared out among its corners, so that one large face spans
+  // its whole extent (its centroid alone would collapse a floor to a point).
+  std::vector<std::pair<const Vec3*, double>> corner;  // (position, weight)
   double total = 0;
   for (std::size_t f = 0; f < faces.size(); ++f) {
-    centre[f] = polygon_centroid(face_vertices(f));
-    area[f] = face_area(f);
-    total += area[f];
+    const double a = face_area(f);
+    total += a;
+    for (std::uint32_t i = 0; i < faces[f].count; ++i)
+      corner.emplace_back(&vertices[indices[faces[f].first + i]], a / faces[f].count);
   }
   if (!(total > 0)) return bounds();
+  std::vector<std::pair<double, double>> at(corner.size());  // (coordinate, weight)
   for (int axis = 0; axis < 3; ++axis) {
-    for (std::size_t f = 0; f < faces.size(); ++f) at[f] = {centre[f][axis], area[f]};
+    for (std::size_t k = 0; k < corner.size(); ++k)
+      at[k] = {(*corner[k].first)[axis], corner[k].second};
     std::sort(at.begin(), at.end());
     const double lo = 0.5 * (1 - share) * total, hi = 0.5 * (1 + share) * total;
     double sum = 0;
