@@ -67,6 +67,26 @@ TEST(SceneBuilder, TriangulatesConcavePolygonPreservingArea) {
 
 // MGF and many modellers write a face with a hole as one loop that walks in to the
 // hole along a seam and back out: 4x4 wall, 2x2 window, area 12.
+// A comb of 2,000 teeth (8,002 corners, most of its corners reflex): ear clipping
+// walks on from its last cut and looks only at the reflex corners near each ear, and
+// the triangles keep the area exactly.
+TEST(SceneBuilder, TriangulatesALargeCombExactly) {
+  constexpr int kTeeth = 2000;
+  std::vector<Vec3> comb = {{0, 0, 0}, {2.0 * kTeeth, 0, 0}};
+  for (int t = kTeeth - 1; t >= 0; --t) {
+    const double x = 2.0 * t;
+    comb.insert(comb.end(), {{x + 1.5, 1, 0}, {x + 1.5, 3, 0}, {x + 0.5, 3, 0}, {x + 0.5, 1, 0}});
+  }
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  b.add_polygon(comb, m, kHere);
+  const Scene s = b.finish("test.obj");
+  EXPECT_EQ(s.faces.size(), comb.size() - 2);
+  // The bar (a trapezoid: its ends slant to the outer teeth) and the teeth, 1 x 2 each.
+  EXPECT_NEAR(s.total_area(), (2.0 * kTeeth - 0.5) + 2.0 * kTeeth, 1e-6);
+  EXPECT_NEAR(s.total_area(), polygon_area(comb), 1e-6);
+}
+
 TEST(SceneBuilder, TriangulatesPolygonWithSeamHole) {
   SceneBuilder b("t", "t");
   const auto m = b.add_material(grey(0.5, 1), kHere);

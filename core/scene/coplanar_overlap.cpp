@@ -54,7 +54,7 @@ struct Flat {
 
 }  // namespace
 
-CoplanarOverlaps find_coplanar_overlaps(const Scene& scene) {
+CoplanarOverlaps find_coplanar_overlaps(const Scene& scene, std::span<const std::uint32_t> source) {
   CoplanarOverlaps r;
   const double diag = scene.bounds().diagonal();
   if (!(diag > 0)) return r;
@@ -88,10 +88,13 @@ CoplanarOverlaps find_coplanar_overlaps(const Scene& scene) {
     std::sort(flats.begin(), flats.end(), [](const Flat& a, const Flat& b) {
       return a.lo.x() != b.lo.x() ? a.lo.x() < b.lo.x() : a.face < b.face;
     });
-    for (std::size_t i = 0; i < flats.size(); ++i)
+    std::size_t checks = 0;
+    for (std::size_t i = 0; i < flats.size() && checks < kMaxOverlapChecks; ++i)
       for (std::size_t j = i + 1; j < flats.size() && flats[j].lo.x() < flats[i].hi.x(); ++j) {
+        if (++checks >= kMaxOverlapChecks) break;
         const Flat &a = flats[i], &b = flats[j];
         if (b.lo.y() >= a.hi.y() || a.lo.y() >= b.hi.y()) continue;
+        if (!source.empty() && source[a.face] == source[b.face]) continue;
         const double shared = area(clip(a.p, b.p));
         if (!(shared > 1e-6 * std::min(a.area, b.area))) continue;
         if (r.pairs++ == 0)

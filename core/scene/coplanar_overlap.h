@@ -9,6 +9,8 @@
 #include "core/scene/scene.h"
 
 #include <cstddef>
+#include <cstdint>
+#include <span>
 
 namespace hrad {
 
@@ -20,8 +22,13 @@ struct CoplanarOverlaps {
 
 /// Pairs of faces in one plane (normals within 1e-6, offsets within 1e-7 of the scene's
 /// diagonal), facing the same way, sharing more than 1e-6 of the smaller one's area.
-/// Faces are convex (SceneBuilder's invariant). Sorted sweeps per plane: near-linear
-/// unless a plane holds many faces stacked on one another.
-CoplanarOverlaps find_coplanar_overlaps(const Scene& scene);
+/// Faces are convex (SceneBuilder's invariant). `source`, when not empty, gives each
+/// face's input polygon: the triangles of one triangulated polygon are not compared.
+/// Sorted sweeps per plane, each stopped after kMaxOverlapChecks candidate pairs (a
+/// polygon of 20,000 corners triangulated into long thin triangles made the sweep
+/// quadratic: 3.4 s), so the test is bounded and may miss overlaps in such a plane.
+inline constexpr std::size_t kMaxOverlapChecks = 20'000'000;
+CoplanarOverlaps find_coplanar_overlaps(const Scene& scene,
+                                        std::span<const std::uint32_t> source = {});
 
 }  // namespace hrad

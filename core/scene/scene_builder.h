@@ -77,7 +77,9 @@ class SceneBuilder {
   std::size_t triangulated_faces_ = 0;
   std::size_t duplicate_faces_ = 0;
   std::size_t self_overlapping_faces_ = 0;
-  std::string first_self_overlap_;  ///< "file:line: what", of the first one dropped
+  std::uint32_t polygons_ = 0;         ///< input polygons kept so far
+  std::vector<std::uint32_t> source_;  ///< per face, its input polygon (coplanar test)
+  std::string first_self_overlap_;     ///< "file:line: what", of the first one dropped
   /// Each polygon's vertex positions, rotated to start at the smallest (x, y, z), in
   /// its own cyclic order: the key of the duplicate test.
   std::unordered_set<std::vector<double>, PositionsHash> seen_;

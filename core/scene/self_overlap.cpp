@@ -75,13 +75,15 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
   const double size = (hi - lo).norm();
   if (!(size > 0)) return r;
   for (Point& x : q) x -= lo;  // round-off in orient() then scales with the size
+  std::vector<double> length(k);
+  for (std::size_t i = 0; i < k; ++i) length[i] = (q[(i + 1) % k] - q[i]).norm();
   const auto crossing = [&](std::size_t i, std::size_t j) {
     // Edges sharing a corner of the cycle only touch.
     if (i == j || (i + 1) % k == j || (j + 1) % k == i) return false;
     const Point &a = q[i], &b = q[(i + 1) % k], &c = q[j], &d = q[(j + 1) % k];
     // Orientations this small count as zero (touching, or collinear like a seam):
     // 1e-10 of the two edges' lengths multiplied, plus round-off at the polygon's size.
-    const double ab = (b - a).norm(), cd = (d - c).norm();
+    const double ab = length[i], cd = length[j];
     const double tiny = 1e-10 * ab * cd + 1e-14 * size * (ab + cd);
     const auto sign = [&](double o) { return o > tiny ? 1 : (o < -tiny ? -1 : 0); };
     return sign(orient(a, b, c)) * sign(orient(a, b, d)) < 0 &&
