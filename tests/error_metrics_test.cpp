@@ -66,6 +66,27 @@ TEST(ErrorMetrics, ProbeRelativeErrorWithFloor) {
   EXPECT_EQ(z.max, 0);
 }
 
+// A reference that is zero at every probe has no scale for a relative error: compare
+// printed "median inf, mean -nan". Without --floor it is an error naming the file; with
+// one the errors are absolute over that floor.
+TEST(ErrorMetrics, AnAllZeroReferenceNeedsAFloor) {
+  const std::string zero = kHeader + "0,0,0,0,0,1,0,0,0\n1,0,0,0,0,1,0,0,0\n";
+  const std::string some = kHeader + "0,0,0,0,0,1,0.5,0.5,0.5\n1,0,0,0,0,1,0,0,0\n";
+  try {
+    (void)compare_probes(parse_probe_table(some, "a.csv"), parse_probe_table(zero, "r.csv"));
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("r.csv: the reference irradiance is zero at every probe"),
+              std::string::npos)
+        << e.what();
+  }
+  const ProbeComparison c =
+      compare_probes(parse_probe_table(some, "a.csv"), parse_probe_table(zero, "r.csv"), 0.25);
+  EXPECT_NEAR(c.max, 2.0, 1e-12);  // 0.5 over the floor 0.25
+  EXPECT_TRUE(std::isfinite(c.mean));
+  EXPECT_TRUE(std::isfinite(c.bias));
+}
+
 TEST(ErrorMetrics, ProbeStandardErrorColumns) {
   // Columns in another order, plus SE and an extra column: SE 0.06 gives
   // z = 0.1/0.06, 0.2/0.06, 0.001/0.06: two of three within 2 SE.

@@ -162,6 +162,12 @@ ProbeComparison compare_probes(const ProbeTable& a, const ProbeTable& r, double 
   for (const Rgb& e : r.irradiance) mean_ref += e.abs().sum() / 3;
   mean_ref /= static_cast<double>(r.irradiance.size());
   c.floor = floor > 0 ? floor : 1e-3 * mean_ref;
+  // A reference that is zero everywhere gives no scale: relative errors were inf and nan.
+  if (!(c.floor > 0))
+    throw std::invalid_argument(fmt::format(
+        "{}: the reference irradiance is zero at every probe, so relative errors are "
+        "undefined; give an absolute floor (--floor X, in the scene's irradiance units)",
+        r.file));
   double sum = 0, sum2 = 0;
   for (std::size_t i = 0; i < r.probes.size(); ++i) {
     ProbeError e;
