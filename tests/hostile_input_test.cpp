@@ -72,7 +72,19 @@ TEST_F(HostileInput, DeeplyNestedOrHugeJsonIsRejectedWithAShortMessage) {
   r = hrad("solve builtin:cornell --config big.json --out run");
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "big.json: not valid JSON")) << r.err;
-  EXPECT_EQ(entries(), 5);  // the five files written here, no output folder
+  // A syntax error's message is whole (it was cut at 120 characters, mid-word); only the
+  // input it quotes is cut.
+  write("comma.json",
+        "{\"eps\": 1e-4,\n \"threads\": 1,\n \"scheduler\": \"blocked\" \"oracle\": \"bf\"}");
+  r = hrad("solve builtin:cornell --config comma.json --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "unexpected string literal; expected '}'")) << r.err;
+  write("junk.json", "{\"eps\": \"" + std::string(300, 'x') + "\\u00zz\"}");
+  r = hrad("solve builtin:cornell --config junk.json --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "more characters)'")) << r.err;
+  EXPECT_LT(r.err.size(), 600u);
+  EXPECT_EQ(entries(), 7);  // the seven files written here, no output folder
 }
 
 // A closed unit box, its light on one wall; `scale` multiplies every coordinate.

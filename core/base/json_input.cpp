@@ -56,6 +56,17 @@ void check_json_depth(std::string_view text, const std::string& source, bool com
   }
 }
 
+std::string brief_parse_error(std::string_view message) {
+  constexpr std::string_view kQuote = "last read: '";
+  const std::size_t at = message.find(kQuote);
+  const std::size_t end = message.rfind('\'');
+  if (at == std::string_view::npos || end == std::string_view::npos || end <= at + kQuote.size())
+    return std::string(message);
+  const std::size_t from = at + kQuote.size();
+  return std::string(message.substr(0, from)) + brief_text(message.substr(from, end - from)) +
+         std::string(message.substr(end));
+}
+
 std::string brief_text(std::string_view text) {
   if (text.size() <= kMaxEchoedChars) return std::string(text);
   return fmt::format("{}... ({} more characters)", text.substr(0, kMaxEchoedChars),

@@ -30,6 +30,11 @@ inline constexpr std::size_t kMaxEchoedChars = 120;
 /// would keep the last one silently). Syntax is the parser's to check.
 void check_json_depth(std::string_view text, const std::string& source, bool comments);
 
+/// The JSON parser's message whole, but the input it quotes after "last read: '" cut
+/// as brief_text cuts it (cutting the whole message at kMaxEchoedChars ended it mid-word:
+/// "... - unexpected string... (22 more characters)").
+std::string brief_parse_error(std::string_view message);
+
 /// `text` cut to kMaxEchoedChars, with the number of characters left out.
 std::string brief_text(std::string_view text);
 
@@ -41,7 +46,7 @@ std::string brief_json(const Json& value) {
 
 /// Parses a whole document: depth checked first; a syntax error or a number beyond a
 /// double becomes std::invalid_argument "SOURCE: not valid JSON: ..." (the parser's
-/// message cut).
+/// message, the text it quotes cut: brief_parse_error).
 template <class Json>
 Json parse_json_document(const std::string& text, const std::string& source, bool comments) {
   check_json_depth(text, source, comments);
@@ -49,7 +54,7 @@ Json parse_json_document(const std::string& text, const std::string& source, boo
     return Json::parse(text, nullptr, true, comments);
   } catch (const nlohmann::json::exception& e) {
     // parse_error, and out_of_range for a number beyond a double (1e99999).
-    throw std::invalid_argument(source + ": not valid JSON: " + brief_text(e.what()));
+    throw std::invalid_argument(source + ": not valid JSON: " + brief_parse_error(e.what()));
   }
 }
 
