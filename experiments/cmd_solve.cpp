@@ -27,7 +27,6 @@
 #include "core/output/render.h"
 #include "core/output/stats_json.h"
 #include "core/parallel/topology.h"
-#include "core/parallel/trace.h"
 #include "core/scene/camera_spec.h"
 #include "core/scene/probes.h"
 #include "core/scene/scene_loader.h"
@@ -240,7 +239,6 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   try {
     std::string camera_from;
     options = resolve_options(a, camera_from);
-    if (!options.trace.empty()) check_trace_target(options.trace);
     if (!a.image.empty()) {
       std::string ext = fs::path(a.image).extension().string();
       for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -7,7 +7,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -48,6 +50,20 @@ inline Vec3 vector_area(std::span<const Vec3> p) {
 }
 
 inline double polygon_area(std::span<const Vec3> p) { return vector_area(p).norm(); }
+
+/// Twice the signed area of the 2D triangle (a, b, c): positive when it turns
+/// counter-clockwise.
+inline double orient2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                       const Eigen::Vector2d& c) {
+  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+}
+
+/// The cell of coordinate x on a grid of `cells` cells of `width` from `lo` (clamped;
+/// cell 0 when the grid has no width): for binning points and boxes.
+inline std::size_t grid_cell(double x, double lo, double width, std::size_t cells) {
+  if (!(width > 0)) return 0;
+  return std::min(cells - 1, static_cast<std::size_t>(std::max(0.0, (x - lo) / width)));
+}
 
 /// Unit normal, or zero for a degenerate polygon.
 inline Vec3 polygon_normal(std::span<const Vec3> p) {

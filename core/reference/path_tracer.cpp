@@ -137,8 +137,8 @@ Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth, bool& cut) con
   Rgb beta = Rgb::Ones();
   Vec3 x = probe.p, n = probe.n;
   std::uint32_t face = RayScene::kNoPolygon;  // the polygon x lies on
-  cut = true;                                 // unless the loop ends before kMaxBounces
-  for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
+  int bounce = 0;
+  for (; bounce < kMaxBounces; ++bounce) {
     sum += beta * direct(x, n, face, rng);
     // Cosine-weighted direction around n.
     const double r = std::sqrt(rng.uniform()), phi = 2 * std::numbers::pi * rng.uniform();
@@ -148,10 +148,10 @@ Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth, bool& cut) con
         r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - r * r)) * n;
     const std::optional<RayHit> hit =
         rays_.intersect(x, dir, std::numeric_limits<double>::infinity(), face);
-    if (!hit) return cut = false, sum;
+    if (!hit) break;
     const Vec3& nf = normals_[hit->prim];
     const double cos_y = -dir.dot(nf);
-    if (cos_y <= 0) return cut = false, sum;  // the back of a polygon is black
+    if (cos_y <= 0) break;  // the back of a polygon is black
     const Vec3 y = x + hit->t * dir;
     const Material& m = scene_.face_material(hit->prim);
     if (m.emits()) {
@@ -162,16 +162,17 @@ Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth, bool& cut) con
       if (p_b > 0) sum += beta * m.emission * (p_b / (p_b + p_l));
     }
     beta *= m.reflectance;
-    if (!(beta > 0).any()) return cut = false, sum;
+    if (!(beta > 0).any()) break;
     if (bounce + 1 >= rr_depth) {
       const double q = std::min(1.0, beta.maxCoeff());
-      if (rng.uniform() >= q) return cut = false, sum;
+      if (rng.uniform() >= q) break;
       beta /= q;
     }
     x = y;
     n = nf;
     face = static_cast<std::uint32_t>(hit->prim);
   }
+  cut = bounce == kMaxBounces;  // every break ends a path before the cap
   return sum;
 }
 

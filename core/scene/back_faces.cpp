@@ -32,16 +32,14 @@ void add_back_faces(Scene& scene, Sides mode, EmitterSides emitters) {
   std::vector<std::uint32_t> back_material(scene.materials.size());
   for (std::size_t m = 0; m < back_material.size(); ++m)
     back_material[m] = static_cast<std::uint32_t>(m);
-  std::vector<bool> made(scene.materials.size(), false);
   const auto back_of = [&](std::uint32_t m) {
     if (emitters == EmitterSides::Both || !scene.materials[m].emits()) return m;
-    if (!made[m]) {
+    if (back_material[m] == m) {  // its dark copy is not made yet
       Material dark = scene.materials[m];
       dark.name += " (back)";
       dark.emission = Rgb::Zero();
       back_material[m] = static_cast<std::uint32_t>(scene.materials.size());
       scene.materials.push_back(std::move(dark));
-      made[m] = true;
     }
     return back_material[m];
   };

@@ -12,10 +12,6 @@ namespace {
 
 using Point = Eigen::Vector2d;
 
-double cross(const Point& a, const Point& b, const Point& c) {
-  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-}
-
 double area(const std::vector<Point>& p) {
   double a = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -36,7 +32,7 @@ std::vector<Point> clip(std::vector<Point> a, const std::vector<Point>& b) {
     for (std::size_t i = 0; i < a.size(); ++i) {
       const Point& s = a[i];
       const Point& t = a[(i + 1) % a.size()];
-      const double ds = cross(p, q, s), dt = cross(p, q, t);
+      const double ds = orient2d(p, q, s), dt = orient2d(p, q, t);
       if (ds >= 0) out.push_back(s);
       if ((ds >= 0) != (dt >= 0)) out.push_back(s + (ds / (ds - dt)) * (t - s));
     }

@@ -170,9 +170,6 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
     lo = lo.cwiseMin(q.back());
     hi = hi.cwiseMax(q.back());
   }
-  auto cross2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-    return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-  };
   auto add_tri = [&](std::size_t a, std::size_t b, std::size_t c) {
     const std::uint32_t t[3] = {idx[a], idx[b], idx[c]};
     const Vec3 tp[3] = {p[a], p[b], p[c]};
@@ -183,7 +180,7 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
     prev[i] = (i + n - 1) % n;
     next[i] = (i + 1) % n;
   }
-  const auto is_reflex = [&](std::size_t i) { return cross2(q[prev[i]], q[i], q[next[i]]) <= 0; };
+  const auto is_reflex = [&](std::size_t i) { return orient2d(q[prev[i]], q[i], q[next[i]]) <= 0; };
   std::vector<char> reflex(n);
   for (std::size_t i = 0; i < n; ++i) reflex[i] = is_reflex(i) ? 1 : 0;
   // The reflex corners by grid cell (about one corner per cell); a corner that stops
@@ -191,31 +188,28 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
   const auto g =
       static_cast<std::size_t>(std::max(1.0, std::ceil(std::sqrt(static_cast<double>(n)))));
   const Eigen::Vector2d cell = (hi - lo) / static_cast<double>(g);
-  const auto index = [&](double x, double l, double w) {
-    if (!(w > 0)) return std::size_t{0};
-    return std::min(g - 1, static_cast<std::size_t>(std::max(0.0, (x - l) / w)));
-  };
   std::vector<std::vector<std::size_t>> bins(g * g);
   for (std::size_t i = 0; i < n; ++i)
     if (reflex[i])
-      bins[index(q[i].y(), lo.y(), cell.y()) * g + index(q[i].x(), lo.x(), cell.x())].push_back(i);
+      bins[grid_cell(q[i].y(), lo.y(), cell.y(), g) * g + grid_cell(q[i].x(), lo.x(), cell.x(), g)]
+          .push_back(i);
   std::vector<char> cut(n, 0);
   const auto ear = [&](std::size_t a, std::size_t b, std::size_t c) {
-    if (cross2(q[a], q[b], q[c]) <= 0) return false;  // reflex corner
+    if (orient2d(q[a], q[b], q[c]) <= 0) return false;  // reflex corner
     const Eigen::Vector2d blo = q[a].cwiseMin(q[b]).cwiseMin(q[c]);
     const Eigen::Vector2d bhi = q[a].cwiseMax(q[b]).cwiseMax(q[c]);
-    for (std::size_t y = index(blo.y(), lo.y(), cell.y()); y <= index(bhi.y(), lo.y(), cell.y());
-         ++y)
-      for (std::size_t x = index(blo.x(), lo.x(), cell.x()); x <= index(bhi.x(), lo.x(), cell.x());
-           ++x)
+    for (std::size_t y = grid_cell(blo.y(), lo.y(), cell.y(), g);
+         y <= grid_cell(bhi.y(), lo.y(), cell.y(), g); ++y)
+      for (std::size_t x = grid_cell(blo.x(), lo.x(), cell.x(), g);
+           x <= grid_cell(bhi.x(), lo.x(), cell.x(), g); ++x)
         for (const std::size_t o : bins[y * g + x]) {
           if (cut[o] || !reflex[o] || o == a || o == b || o == c) continue;
           // Copies of the ear's own corners (a polygon with a hole written as one
           // loop with a seam repeats two vertices) do not block it; other points
           // block it when inside or on its boundary.
           if (q[o] == q[a] || q[o] == q[b] || q[o] == q[c]) continue;
-          if (cross2(q[a], q[b], q[o]) >= 0 && cross2(q[b], q[c], q[o]) >= 0 &&
-              cross2(q[c], q[a], q[o]) >= 0)
+          if (orient2d(q[a], q[b], q[o]) >= 0 && orient2d(q[b], q[c], q[o]) >= 0 &&
+              orient2d(q[c], q[a], q[o]) >= 0)
             return false;
         }
     return true;

@@ -35,10 +35,6 @@ Vec3 plane_normal(std::span<const Vec3> p) {
   return len > 0 ? Vec3(n / len) : Vec3::Zero();
 }
 
-double orient(const Point& a, const Point& b, const Point& c) {
-  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-}
-
 }  // namespace
 
 SelfOverlap find_self_overlap(std::span<const Vec3> p) {
@@ -74,7 +70,7 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
   }
   const double size = (hi - lo).norm();
   if (!(size > 0)) return r;
-  for (Point& x : q) x -= lo;  // round-off in orient() then scales with the size
+  for (Point& x : q) x -= lo;  // round-off in orient2d() then scales with the size
   std::vector<double> length(k);
   for (std::size_t i = 0; i < k; ++i) length[i] = (q[(i + 1) % k] - q[i]).norm();
   const auto crossing = [&](std::size_t i, std::size_t j) {
@@ -86,8 +82,8 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
     const double ab = length[i], cd = length[j];
     const double tiny = 1e-10 * ab * cd + 1e-14 * size * (ab + cd);
     const auto sign = [&](double o) { return o > tiny ? 1 : (o < -tiny ? -1 : 0); };
-    return sign(orient(a, b, c)) * sign(orient(a, b, d)) < 0 &&
-           sign(orient(c, d, a)) * sign(orient(c, d, b)) < 0;
+    return sign(orient2d(a, b, c)) * sign(orient2d(a, b, d)) < 0 &&
+           sign(orient2d(c, d, a)) * sign(orient2d(c, d, b)) < 0;
   };
   const auto found = [&](std::size_t i, std::size_t j) {
     r.found = true;
@@ -104,17 +100,13 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
   // Edges binned by their boxes on a grid of about k cells; pairs meet in a cell.
   const auto g = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(k))));
   const Point cell = (hi - lo) / static_cast<double>(g);
-  const auto index = [&](double x, double l, double w) {
-    if (!(w > 0)) return std::size_t{0};
-    return std::min(g - 1, static_cast<std::size_t>(std::max(0.0, (x - l) / w)));
-  };
   std::vector<std::vector<std::size_t>> bins(g * g);
   for (std::size_t i = 0; i < k; ++i) {
     const Point a = q[i], b = q[(i + 1) % k];
-    const std::size_t x0 = index(std::min(a.x(), b.x()), lo.x(), cell.x()),
-                      x1 = index(std::max(a.x(), b.x()), lo.x(), cell.x()),
-                      y0 = index(std::min(a.y(), b.y()), lo.y(), cell.y()),
-                      y1 = index(std::max(a.y(), b.y()), lo.y(), cell.y());
+    const std::size_t x0 = grid_cell(std::min(a.x(), b.x()), 0, cell.x(), g),
+                      x1 = grid_cell(std::max(a.x(), b.x()), 0, cell.x(), g),
+                      y0 = grid_cell(std::min(a.y(), b.y()), 0, cell.y(), g),
+                      y1 = grid_cell(std::max(a.y(), b.y()), 0, cell.y(), g);
     for (std::size_t y = y0; y <= y1; ++y)
       for (std::size_t x = x0; x <= x1; ++x) bins[y * g + x].push_back(i);
   }
