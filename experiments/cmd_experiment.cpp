@@ -198,7 +198,7 @@ void register_experiment(CLI::App& app, CommandContext& ctx) {
       "Run an experiment configuration (a sweep over scenes and options) and write "
       "runs.csv, iterations.csv, manifest.json and its plots.");
   sub->add_option("CONFIG", args->config,
-                  "Experiment configuration (JSON; see README, 'Experiments')")
+                  "Experiment configuration (JSON; see docs/experiments.md)")
       ->required();
   sub->add_flag("--quick", args->quick,
                 "Apply the config's 'quick' overrides (smaller scenes, fewer points and "

@@ -48,7 +48,7 @@ void print_scenes() {
       "            exitance is pi * Ke. Planar convex polygons are kept, others triangulated.\n"
       "  FILE.mgf  Materials and Geometry Format 1.1 (RenderPark, Radiance): CIE colours\n"
       "            and rd / ed converted to RGB as documented in core/scene/mgf/mgf_color.h.\n"
-      "See README.md, 'Scene formats', for the details.\n");
+      "See docs/formats.md for the details.\n");
 }
 
 }  // namespace

@@ -276,6 +276,10 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       camera.automatic = automatic_camera(scene, solver->ray_scene());
       camera.camera = camera.automatic.camera;
     }
+  } catch (const Interrupted& e) {
+    if (progress) progress->finish();
+    print_error(fmt::format("{}: the solve stopped before writing any result", e.what()));
+    return e.exit_status();
   } catch (const std::exception& e) {
     if (progress) progress->finish();
     print_error(e.what());
@@ -344,10 +348,14 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       }
 
       if (!a.probes.empty()) {
-        write_probes_csv(out / "probes.csv", probes, solver->probe_irradiance(probes));
+        const std::vector<Rgb> e = solver->probe_irradiance(probes, progress->callback());
+        progress->finish();
+        write_probes_csv(out / "probes.csv", probes, e);
         outputs["probes"] = "probes.csv";
         written.push_back("probes.csv");
       }
+    } catch (const Interrupted&) {
+      throw;
     } catch (const std::exception& e) {
       failure = Failure{e.what()};
     }
@@ -380,9 +388,14 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     write_json_atomically(out / "stats.json", j);
     written.insert(written.begin(), "stats.json");
   } catch (const Interrupted& e) {
-    // Stopped at a safe point before anything was written (the results of an earlier
-    // run into the folder were removed at the start).
+    // Stopped at a safe point. What this run had written goes (the results of an
+    // earlier run into the folder were removed at the start): a mesh and an image
+    // without stats.json would pass for a result.
     progress->finish();
+    for (const std::string& f : written) {
+      std::error_code ec;
+      fs::remove(f == a.image || f == a.hdr ? fs::path(f) : out / f, ec);
+    }
     const bool remove = created && is_empty_dir(out);
     if (remove) fs::remove(out);
     print_error(fmt::format("{}: the solve stopped before writing any result{}", e.what(),
@@ -450,10 +463,10 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
           ->type_name("SPEC");
   sub->add_option("--view", args->view,
                   "Camera of the image from a view file: lines 'eye X Y Z', 'look X Y Z', "
-                  "optional 'up X Y Z' and 'fov DEG', # comments (see README)")
+                  "optional 'up X Y Z' and 'fov DEG', # comments (see docs/cli.md)")
       ->type_name("FILE");
   sub->add_option("--config", args->config,
-                  "JSON file of option keys (see README, 'Configuration'); explicit flags and "
+                  "JSON file of option keys (see docs/configuration.md); explicit flags and "
                   "--set override it [default: none]")
       ->type_name("FILE");
   sub->add_option("--set", args->sets,

@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
 
 #ifndef HRAD_GIT_REVISION
@@ -80,8 +81,15 @@ int main(int argc, char** argv) {
   CLI::App app{"hrad: a testbed for parallel hierarchical radiosity with clustering.", "hrad"};
   app.set_version_flag("--version", version_string());
   app.require_subcommand(1);
-  // SIGINT and SIGTERM stop long commands at a safe point (core/base/interrupt.h).
-  hrad::install_interrupt_handlers();
+  // SIGINT and SIGTERM stop the commands that write results as they go at a safe point
+  // (core/base/interrupt.h). The others (compare, simulate, topology, scenes) write at
+  // most one file at their end, atomically: the signal's default action ends them at
+  // once and leaves nothing half-written.
+  if (argc > 1) {
+    const std::string_view command = argv[1];
+    if (command == "solve" || command == "experiment" || command == "reference")
+      hrad::install_interrupt_handlers();
+  }
   register_solve(app, ctx);
   register_experiment(app, ctx);
   register_simulate(app, ctx);

@@ -103,7 +103,7 @@ double occlusion_weight(const LinkEstimate& link, double weight = kOccludedClust
 /// scaled by E_r / mean_irradiance, E_r = max over channels of (B - E) / rho (its
 /// irradiance from the last solution), clamped to [kDarkThresholdFloor, 1]: never
 /// looser than eps, at most 4x tighter. Chosen by measurement (64 random probes
-/// against `hrad reference`, README "Accuracy and recommended settings"): a floor of
+/// against `hrad reference`, docs/accuracy.md): a floor of
 /// 0.25 took builtin:cornell's worst probe from 20 to 6.4 % for 15 % more links; 0.1
 /// gained nothing more; scaling by E_r / (3 x mean) doubled the links for a smaller
 /// gain. Uniformly lit scenes (a furnace) are unchanged.

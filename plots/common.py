@@ -1,7 +1,7 @@
 """Shared helpers for the hrad plot scripts (plots/*.py).
 
 Every script reads only the files of one experiment result folder (runs.csv,
-iterations.csv, manifest.json; see README, "Experiments") and writes NAME.png and
+iterations.csv, manifest.json; see docs/results.md) and writes NAME.png and
 NAME.svg into that folder (or --out-dir). Captions give the machine and scenes from
 manifest.json and the command that regenerates the figure. Only the standard library
 and matplotlib (Debian: python3-matplotlib) are used; pandas is not needed.

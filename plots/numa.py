@@ -53,7 +53,7 @@ for panel, column in ((a, "refine_wall_s"), (b, "local_access_ratio")):
     if column == "local_access_ratio" and nodes == 1:
         panel.text(0.5, 0.5, "this machine has one NUMA node: every task's receiver is on\n"
                    "the refiner's node, so every ratio is 1.0 (multi-node studies:\n"
-                   "HWLOC_SYNTHETIC or HWLOC_XMLFILE, see README \"NUMA studies\")",
+                   "HWLOC_SYNTHETIC or HWLOC_XMLFILE, see docs/numa.md)",
                    ha="center", va="center", fontsize=7, transform=panel.transAxes,
                    bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "grey"})
 a.set_ylabel(f"refinement wall time (s), {threads} threads")

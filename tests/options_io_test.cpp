@@ -411,18 +411,19 @@ TEST(OptionsIo, CameraKeyIsCheckedWhereItIsRead) {
 namespace hrad {
 namespace {
 
-// README's configuration table is the option table's: one row per key, in table order,
+// docs/configuration.md's table is the option table's: one row per key, in table order,
 // and for every mode the "allowed" column is its enum's names, in the enum table's
-// order. A value added to an enum table fails here until README says it.
+// order. A value added to an enum table fails here until docs/configuration.md says it.
 TEST(OptionsIo, ReadmeTableListsEveryKeyAndEveryModeValue) {
-  const std::string readme = test::read_text(std::filesystem::path(HRAD_SOURCE_DIR) / "README.md");
+  const std::string readme =
+      test::read_text(std::filesystem::path(HRAD_SOURCE_DIR) / "docs" / "configuration.md");
   ASSERT_FALSE(readme.empty());
   std::size_t last = 0;
   for (const OptionInfo& info : option_table()) {
     const std::string start = "\n| `" + info.name + "` | ";
     const std::size_t at = readme.find(start);
-    ASSERT_NE(at, std::string::npos) << "README has no row for " << info.name;
-    EXPECT_GT(at, last) << info.name << " is out of the table's order in README";
+    ASSERT_NE(at, std::string::npos) << "docs/configuration.md has no row for " << info.name;
+    EXPECT_GT(at, last) << info.name << " is out of the table's order in docs/configuration.md";
     last = at;
     if (info.choices.empty()) continue;
     const std::string row = readme.substr(at + 1, readme.find('\n', at + 1) - at - 1);
@@ -430,7 +431,8 @@ TEST(OptionsIo, ReadmeTableListsEveryKeyAndEveryModeValue) {
     for (const std::string& c : info.choices) allowed += (allowed.empty() ? "`" : ", `") + c + "`";
     EXPECT_TRUE(row.size() > allowed.size() + 2 &&
                 row.compare(row.size() - allowed.size() - 2, allowed.size(), allowed) == 0)
-        << info.name << ": README's allowed column should be " << allowed << "\n  row: " << row;
+        << info.name << ": docs/configuration.md's allowed column should be " << allowed
+        << "\n  row: " << row;
   }
 }
 

@@ -163,7 +163,7 @@ std::vector<Probe> cornell_probes() {
 // mismatch of definitions (a factor pi, exitance for radiance, a missing bounce) would
 // be off by far more. Measured at eps 1e-3 the solver is 3-7% *below* the reference on
 // these probes (1-11% on tests/data/cornell_probes.txt; it converges towards it as eps
-// and min_area shrink; see the README), so the bounds are 10% per probe and channel
+// and min_area shrink; see docs/accuracy.md), so the bounds are 10% per probe and channel
 // and 6% on the mean.
 TEST(PathTracer, AgreesWithSolverOnCornell) {
   const Scene scene = make_builtin("builtin:cornell");

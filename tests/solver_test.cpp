@@ -582,8 +582,8 @@ TEST(SolverInterrupt, StopsAtTheFirstSafePointAndTheNextRunIsWhole) {
     SolverOptions o;
     o.threads = threads;
     o.iterations = 1;
-    simulate_interrupt(SIGINT);
     Solver stopped(scene, o);
+    simulate_interrupt(SIGINT);
     try {
       (void)stopped.run();
       ADD_FAILURE() << "not interrupted";

@@ -130,7 +130,7 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
   EXPECT_EQ(second["refiners"][1]["link_bytes"], 4096);
   EXPECT_DOUBLE_EQ(second["refine_thread_cpu_s"].get<double>(), 1.7);
   EXPECT_DOUBLE_EQ(second["task_cpu_ns"].get<double>(), 1.7e9 / 300);
-  EXPECT_EQ(second["refiners"][1]["bound"], "none");  // NUMA fields (README, NUMA studies)
+  EXPECT_EQ(second["refiners"][1]["bound"], "none");  // NUMA fields (docs/numa.md)
   EXPECT_EQ(second["refiners"][1]["node"], 0);
   EXPECT_EQ(second["refiners"][1]["tasks_local"], 0);
   EXPECT_DOUBLE_EQ(second["bytes_per_element"].get<double>(), 4096.0 / 80.0);

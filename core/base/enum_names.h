@@ -4,8 +4,8 @@
 //   constexpr std::span<const EnumName<E>> enum_names(E) { return kTable; }
 //
 // (found by argument-dependent lookup), and parsing, printing, validation, --help and the
-// README's "allowed" column (checked by tests/options_io_test.cpp) all come from it. A new
-// value is one row of its table.
+// "allowed" column of docs/configuration.md (checked by tests/options_io_test.cpp) all
+// come from it. A new value is one row of its table.
 #pragma once
 
 #include <fmt/format.h>

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <span>
@@ -63,6 +64,21 @@ inline double orient2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
 inline std::size_t grid_cell(double x, double lo, double width, std::size_t cells) {
   if (!(width > 0)) return 0;
   return std::min(cells - 1, static_cast<std::size_t>(std::max(0.0, (x - lo) / width)));
+}
+
+/// Cells along x and y of a grid of about `cells` cells over a w x h box, shaped like
+/// the box so that its cells are near square. (A square grid over a comb 100,000 times
+/// wider than tall put each tooth's side into hundreds of rows: 1.2 GB of bins.)
+inline std::array<std::size_t, 2> grid_shape(double w, double h, std::size_t cells) {
+  const double n = static_cast<double>(std::max<std::size_t>(cells, 1));
+  const auto fit = [n](double c) {
+    return static_cast<std::size_t>(std::clamp(std::ceil(c), 1.0, n));
+  };
+  if (!(w > 0) && !(h > 0)) return {1, 1};
+  if (!(h > 0)) return {fit(n), 1};
+  if (!(w > 0)) return {1, fit(n)};
+  const std::size_t gx = fit(std::sqrt(n * w / h));
+  return {gx, fit(n / static_cast<double>(gx))};
 }
 
 /// Unit normal, or zero for a degenerate polygon.

@@ -2,7 +2,9 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdint>
 #include <cstring>
+#include <ctime>
 #include <mutex>
 
 namespace hrad {
@@ -10,14 +12,32 @@ namespace hrad {
 namespace {
 
 std::atomic<int> g_signal{0};
+std::atomic<std::int64_t> g_first_ns{0};  // when the first signal arrived (monotonic)
 static_assert(std::atomic<int>::is_always_lock_free, "used from a signal handler");
+static_assert(std::atomic<std::int64_t>::is_always_lock_free, "used from a signal handler");
+
+// clock_gettime is async-signal-safe (POSIX.1-2008).
+std::int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+}
 
 extern "C" void on_interrupt(int sig) {
-  if (g_signal.exchange(sig, std::memory_order_relaxed) != 0) {
-    // The second signal: the default action, now.
-    std::signal(sig, SIG_DFL);
-    std::raise(sig);
+  const std::int64_t now = monotonic_ns();
+  int none = 0;
+  if (g_signal.compare_exchange_strong(none, sig, std::memory_order_relaxed)) {
+    g_first_ns.store(now, std::memory_order_relaxed);
+    return;
   }
+  // Signals within kSameRequestSeconds of the first are the same request: `timeout`
+  // signals the process and then its whole group, and a terminal's Ctrl-C reaches
+  // every process of the foreground group. Only a later one means "now".
+  if (now - g_first_ns.load(std::memory_order_relaxed) <
+      static_cast<std::int64_t>(kSameRequestSeconds * 1e9))
+    return;
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
 }
 
 }  // namespace
@@ -49,6 +69,9 @@ void throw_if_interrupted() {
   if (const int s = interrupt_signal(); s != 0) throw Interrupted(s);
 }
 
-void simulate_interrupt(int signal) { g_signal.store(signal, std::memory_order_relaxed); }
+void simulate_interrupt(int signal) {
+  g_first_ns.store(monotonic_ns(), std::memory_order_relaxed);
+  g_signal.store(signal, std::memory_order_relaxed);
+}
 
 }  // namespace hrad

@@ -2,17 +2,25 @@
 // it between two writes (an interrupted solve could leave solution.ply without
 // stats.json, an interrupted experiment a manifest that still said "running").
 //
-// install_interrupt_handlers() makes the first such signal set a flag; a second one
-// ends the process at once, as the signal's default action would. Long loops poll
-// interrupted() where stopping is safe (between refinement blocks, sweeps, stages,
-// path-tracing batches and experiment runs) and unwind with Interrupted; each command
-// then removes or marks what it had not finished and exits with 128 + the signal.
+// install_interrupt_handlers() makes the first such signal set a flag; one that comes
+// more than kSameRequestSeconds later ends the process at once, as the signal's default
+// action would (signals that arrive together, as `timeout` sends them to the process
+// and its group, are one request). Every long loop polls interrupted() where stopping
+// is safe (scene reading and triangulation, the overlap checks, refinement blocks and
+// single long tasks, open fractions, push weights, row sums, propagation sweeps,
+// meshing, rendering, probes, path-tracing batches, experiment runs, comparisons) and
+// unwinds with Interrupted, within about a second of the signal; each command then
+// removes or marks what it had not finished and exits with 128 + the signal.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
 namespace hrad {
+
+/// Signals closer together than this are one request.
+inline constexpr double kSameRequestSeconds = 1.0;
 
 /// Installs the handlers for SIGINT and SIGTERM (once per process; later calls do
 /// nothing).
@@ -39,6 +47,11 @@ class Interrupted : public std::runtime_error {
 /// Throws Interrupted when interrupted(). Not inside an OpenMP region: poll
 /// interrupted() there, leave the region, then call this.
 void throw_if_interrupted();
+
+/// In a loop over many cheap steps: polls every `every` steps (a power of two).
+inline void poll_interrupt(std::size_t step, std::size_t every = 4096) {
+  if ((step & (every - 1)) == 0) throw_if_interrupted();
+}
 
 /// For tests: raises the flag as a signal would (0 clears it).
 void simulate_interrupt(int signal);

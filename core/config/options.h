@@ -2,8 +2,8 @@
 // the JSON config and `--set key=value` all write into it through options_io.h,
 // which rejects unknown keys by name. A mode is an enum whose one table of names
 // (core/base/enum_names.h, beside the enum) gives the values parsing accepts, the
-// help text and the README's "allowed" column; the meanings are in options_io.cpp's
-// key table and the README.
+// help text and docs/configuration.md's "allowed" column; the meanings are in options_io.cpp's
+// key table and docs/configuration.md.
 //
 // | key                 | type            | default      | meaning                                 |
 // |---------------------|-----------------|--------------|-----------------------------------------|

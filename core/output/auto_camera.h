@@ -1,7 +1,7 @@
 // The automatic camera: a view chosen with rays (core/raycast/ray_scene.h) for scenes that
 // bring none (OBJ, MGF), or when asked for with `--camera auto`.
 //
-// The rule (also in README.md, "Command line"):
+// The rule (also in docs/cli.md, "The camera"):
 //  1. Candidates: a jittered 5 x 5 x 5 grid over the scene's bounding box, one point
 //     per cell (fixed seed, so the choice is deterministic).
 //  2. Each candidate casts kSphereRays rays spread over the sphere. It is in free

@@ -1,6 +1,7 @@
 #include "core/output/render.h"
 
 #include "core/base/atomic_file.h"
+#include "core/base/interrupt.h"
 #include "core/raycast/ray_scene.h"
 
 #include <fmt/format.h>
@@ -203,6 +204,7 @@ Image render_radiance(const RenderMesh& mesh, const Camera& cam, int width, int 
   // RayScene.
 #pragma omp parallel for schedule(dynamic, 1)
   for (int y = 0; y < height; ++y) {
+    if (interrupted()) continue;  // then abandoned below
     for (int x = 0; x < width; ++x) {
       Rgb sum = Rgb::Zero();
       int hits = 0;
@@ -229,6 +231,7 @@ Image render_radiance(const RenderMesh& mesh, const Camera& cam, int width, int 
       img.coverage[p] = static_cast<float>(hits * inv_samples);
     }
   }
+  throw_if_interrupted();
   return img;
 }
 

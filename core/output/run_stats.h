@@ -1,5 +1,5 @@
 // What a run measures, per refinement iteration and in total. Field names are
-// the keys of stats.json (see README, "Result files"); times in seconds, sizes in
+// the keys of stats.json (see docs/results.md); times in seconds, sizes in
 // bytes.
 #pragma once
 

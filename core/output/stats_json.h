@@ -1,6 +1,6 @@
 // stats.json building blocks: the measurements of a run (RunStats) and a summary of
 // the scene, as JSON, plus an atomic JSON file writer. The keys are documented in
-// README.md, "Result files"; field names follow core/output/run_stats.h. Times are in
+// docs/results.md; field names follow core/output/run_stats.h. Times are in
 // seconds, sizes in bytes, areas in the scene's units squared, radiometric values in
 // W per unit area of the scene's units.
 #pragma once

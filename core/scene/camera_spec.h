@@ -1,5 +1,5 @@
 // Cameras written as text: the `--camera` option and `camera` configuration key, and
-// the `--view` file. Both name the same four things; README.md, "Command line".
+// the `--view` file. Both name the same four things; docs/cli.md, "The camera".
 //
 // Spec (one line):  eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG]
 //   parts separated by ':', in any order, each at most once; eye and look required.

@@ -1,5 +1,7 @@
 #include "core/scene/coplanar_overlap.h"
 
+#include "core/base/interrupt.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -85,9 +87,11 @@ CoplanarOverlaps find_coplanar_overlaps(const Scene& scene, std::span<const std:
       return a.lo.x() != b.lo.x() ? a.lo.x() < b.lo.x() : a.face < b.face;
     });
     std::size_t checks = 0;
-    for (std::size_t i = 0; i < flats.size() && checks < kMaxOverlapChecks; ++i)
+    for (std::size_t i = 0; i < flats.size() && checks < kMaxOverlapChecks; ++i) {
+      poll_interrupt(i);
       for (std::size_t j = i + 1; j < flats.size() && flats[j].lo.x() < flats[i].hi.x(); ++j) {
         if (++checks >= kMaxOverlapChecks) break;
+        poll_interrupt(checks);
         const Flat &a = flats[i], &b = flats[j];
         if (b.lo.y() >= a.hi.y() || a.lo.y() >= b.hi.y()) continue;
         if (!source.empty() && source[a.face] == source[b.face]) continue;
@@ -97,6 +101,7 @@ CoplanarOverlaps find_coplanar_overlaps(const Scene& scene, std::span<const std:
           r.first = polygon_centroid(scene.face_vertices(std::min(a.face, b.face)));
         r.area += shared;
       }
+    }
   }
   return r;
 }

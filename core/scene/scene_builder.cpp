@@ -1,5 +1,6 @@
 #include "core/scene/scene_builder.h"
 
+#include "core/base/interrupt.h"
 #include "core/scene/coplanar_overlap.h"
 #include "core/scene/self_overlap.h"
 
@@ -87,6 +88,7 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
   if (material >= scene_.materials.size())
     throw InputError(at.file, at.line, fmt::format("material index {} is out of range", material));
 
+  poll_interrupt(polygons_seen_++);
   std::vector<Vec3> p;
   p.reserve(idx.size());
   for (std::uint32_t i : idx) p.push_back(scene_.vertices[i]);
@@ -185,24 +187,26 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
   for (std::size_t i = 0; i < n; ++i) reflex[i] = is_reflex(i) ? 1 : 0;
   // The reflex corners by grid cell (about one corner per cell); a corner that stops
   // being reflex, or is cut, is skipped by its flag.
-  const auto g =
-      static_cast<std::size_t>(std::max(1.0, std::ceil(std::sqrt(static_cast<double>(n)))));
-  const Eigen::Vector2d cell = (hi - lo) / static_cast<double>(g);
-  std::vector<std::vector<std::size_t>> bins(g * g);
+  const Eigen::Vector2d extent = hi - lo;
+  const auto [gx, gy] = grid_shape(extent.x(), extent.y(), n);
+  const Eigen::Vector2d cell(extent.x() / static_cast<double>(gx),
+                             extent.y() / static_cast<double>(gy));
+  std::vector<std::vector<std::size_t>> bins(gx * gy);
   for (std::size_t i = 0; i < n; ++i)
     if (reflex[i])
-      bins[grid_cell(q[i].y(), lo.y(), cell.y(), g) * g + grid_cell(q[i].x(), lo.x(), cell.x(), g)]
+      bins[grid_cell(q[i].y(), lo.y(), cell.y(), gy) * gx +
+           grid_cell(q[i].x(), lo.x(), cell.x(), gx)]
           .push_back(i);
   std::vector<char> cut(n, 0);
   const auto ear = [&](std::size_t a, std::size_t b, std::size_t c) {
     if (orient2d(q[a], q[b], q[c]) <= 0) return false;  // reflex corner
     const Eigen::Vector2d blo = q[a].cwiseMin(q[b]).cwiseMin(q[c]);
     const Eigen::Vector2d bhi = q[a].cwiseMax(q[b]).cwiseMax(q[c]);
-    for (std::size_t y = grid_cell(blo.y(), lo.y(), cell.y(), g);
-         y <= grid_cell(bhi.y(), lo.y(), cell.y(), g); ++y)
-      for (std::size_t x = grid_cell(blo.x(), lo.x(), cell.x(), g);
-           x <= grid_cell(bhi.x(), lo.x(), cell.x(), g); ++x)
-        for (const std::size_t o : bins[y * g + x]) {
+    for (std::size_t y = grid_cell(blo.y(), lo.y(), cell.y(), gy);
+         y <= grid_cell(bhi.y(), lo.y(), cell.y(), gy); ++y)
+      for (std::size_t x = grid_cell(blo.x(), lo.x(), cell.x(), gx);
+           x <= grid_cell(bhi.x(), lo.x(), cell.x(), gx); ++x)
+        for (const std::size_t o : bins[y * gx + x]) {
           if (cut[o] || !reflex[o] || o == a || o == b || o == c) continue;
           // Copies of the ear's own corners (a polygon with a hole written as one
           // loop with a seam repeats two vertices) do not block it; other points
@@ -215,7 +219,8 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
     return true;
   };
   std::size_t left = n, at = 0, since_cut = 0;
-  while (left > 3 && since_cut < left) {
+  for (std::size_t step = 1; left > 3 && since_cut < left; ++step) {
+    poll_interrupt(step);
     const std::size_t a = prev[at], c = next[at];
     if (!ear(a, at, c)) {
       at = c;

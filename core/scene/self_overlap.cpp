@@ -1,5 +1,7 @@
 #include "core/scene/self_overlap.h"
 
+#include "core/base/interrupt.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -98,22 +100,26 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
     return r;
   }
   // Edges binned by their boxes on a grid of about k cells; pairs meet in a cell.
-  const auto g = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(k))));
-  const Point cell = (hi - lo) / static_cast<double>(g);
-  std::vector<std::vector<std::size_t>> bins(g * g);
+  const Point extent = hi - lo;
+  const auto [gx, gy] = grid_shape(extent.x(), extent.y(), k);
+  const Point cell(extent.x() / static_cast<double>(gx), extent.y() / static_cast<double>(gy));
+  std::vector<std::vector<std::size_t>> bins(gx * gy);
   for (std::size_t i = 0; i < k; ++i) {
     const Point a = q[i], b = q[(i + 1) % k];
-    const std::size_t x0 = grid_cell(std::min(a.x(), b.x()), 0, cell.x(), g),
-                      x1 = grid_cell(std::max(a.x(), b.x()), 0, cell.x(), g),
-                      y0 = grid_cell(std::min(a.y(), b.y()), 0, cell.y(), g),
-                      y1 = grid_cell(std::max(a.y(), b.y()), 0, cell.y(), g);
+    const std::size_t x0 = grid_cell(std::min(a.x(), b.x()), 0, cell.x(), gx),
+                      x1 = grid_cell(std::max(a.x(), b.x()), 0, cell.x(), gx),
+                      y0 = grid_cell(std::min(a.y(), b.y()), 0, cell.y(), gy),
+                      y1 = grid_cell(std::max(a.y(), b.y()), 0, cell.y(), gy);
     for (std::size_t y = y0; y <= y1; ++y)
-      for (std::size_t x = x0; x <= x1; ++x) bins[y * g + x].push_back(i);
+      for (std::size_t x = x0; x <= x1; ++x) bins[y * gx + x].push_back(i);
   }
-  for (const std::vector<std::size_t>& bin : bins)
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    const std::vector<std::size_t>& bin = bins[b];
+    poll_interrupt(b, 1024);
     for (std::size_t s = 0; s < bin.size(); ++s)
       for (std::size_t t = s + 1; t < bin.size(); ++t)
         if (crossing(bin[s], bin[t])) return found(bin[s], bin[t]);
+  }
   return r;
 }
 

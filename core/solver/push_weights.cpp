@@ -1,5 +1,6 @@
 #include "core/solver/push_weights.h"
 
+#include "core/base/interrupt.h"
 #include "core/parallel/parallel_any.h"
 #include "core/transport/open_fraction.h"
 #include "core/transport/transport.h"
@@ -161,13 +162,14 @@ std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const T
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const auto u = static_cast<std::size_t>(i);
     const Element& p = *parents_[u];
-    if (p.is_cluster()) continue;
+    if (p.is_cluster() || interrupted()) continue;
     const std::size_t at = offset_[u];
     const ChildVisibility* old = nullptr;
     if (const auto it = previous.find(&p); it != previous.end()) old = &own_[it->second];
     rays += weigh_children(p, transport, any_light, mode, chain, old,
                            now.empty() ? nullptr : &now[u], row, &light_[at], &geometry_[at]);
   }
+  throw_if_interrupted();
   own_ = std::move(now);
   old_parents_.clear();
   if (mode == PushVisibility::Child) old_parents_.assign(parents_.begin(), parents_.end());

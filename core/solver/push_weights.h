@@ -36,7 +36,7 @@
 // the chain (visibility_rays rays per child and link, Transport::visibility, per unit
 // of the child's open area, kept for the next update), which takes the office's worst
 // probe from 25 to 10 % and the furnace's from 5 to 1.7 % in 39 % more time on the
-// office (README, "Accuracy after issue 13's eighth step").
+// office (docs/accuracy.md, "Per-child visibility in the push weights").
 //
 // A surface source farther than a few of its radii from a child is weighed by the
 // differential form factor (within about 1/9 of the exact one there), the nearer ones

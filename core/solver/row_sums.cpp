@@ -1,6 +1,7 @@
 #include "core/solver/row_sums.h"
 
 #include "core/base/hash.h"
+#include "core/base/interrupt.h"
 #include "core/hierarchy/hierarchy.h"
 #include "core/parallel/parallel_any.h"
 #include "core/raycast/ray_scene.h"
@@ -110,6 +111,7 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
   const auto n = static_cast<std::ptrdiff_t>(leaves.size());
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 64) reduction(+ : rays_cast)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (interrupted()) continue;
     Element& e = *leaves[static_cast<std::size_t>(i)];
     const double s = static_cast<double>(e.gather_scale) * e.next[0];
     double target = 1;
@@ -124,6 +126,7 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
       e.gather_scale *= static_cast<float>(target / s);
     }
   }
+  throw_if_interrupted();
   st.corrected = 0;
   for (const Element* e : leaves) st.corrected += e->gather_scale != 1.0f ? 1 : 0;
   st.rays_cast = rays_cast;

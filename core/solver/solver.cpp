@@ -22,10 +22,12 @@
 #include "schedulers/scheduler.h"
 
 #include <fmt/format.h>
+#include <omp.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -152,6 +154,7 @@ struct Solver::Impl {
         receiver_mode(o.cluster_receiver),
         emitted_power(s.max_channel_emitted_power()),
         total_area(s.total_area()) {
+    throw_if_interrupted();
     effects = analyse_effects(s, o);
     transport.set_visibility_effect(effects.visibility.on);
     transport.set_shaft_culling(o.shaft_culling == ShaftCulling::On &&
@@ -187,6 +190,7 @@ Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn prog
   const auto start = Clock::now();
   impl_ = std::make_unique<Impl>(scene, options, std::move(progress));
   impl_->setup_s = seconds_since(start);
+  throw_if_interrupted();  // (the setup's parts cannot stop midway: seconds on large scenes)
 }
 
 Solver::~Solver() = default;
@@ -514,7 +518,8 @@ std::vector<Solver::Leaf> Solver::leaves() const {
   return out;
 }
 
-std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
+std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
+                                          const ProgressFn& progress) const {
   // Final gather: irradiance = sum over leaf surfaces of B_s x F(point -> s) x V,
   // with the exact point-to-polygon form factor and the kernel-weighted visibility of
   // Transport::visibility_from_point, from rays whose random numbers hash the probe
@@ -524,8 +529,14 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
   const int k = std::max(m.options.visibility_rays, 8);
   std::vector<Rgb> out(probes.size(), Rgb::Zero());
   const auto n = static_cast<std::ptrdiff_t>(probes.size());
+  std::atomic<std::ptrdiff_t> done{0};
 #pragma omp parallel for num_threads(m.options.threads) schedule(dynamic, 1)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (interrupted()) continue;  // then abandoned below
+    // The progress line is one thread's (ProgressFn is not thread-safe).
+    const std::ptrdiff_t finished = done.fetch_add(1, std::memory_order_relaxed);
+    if (progress && omp_get_thread_num() == 0)
+      progress(fmt::format("probes: {} of {}", finished, n), static_cast<double>(finished) / n);
     const Probe& pr = probes[static_cast<std::size_t>(i)];
     Rgb sum = Rgb::Zero();
     for (const Element* s : leaves) {
@@ -538,6 +549,7 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes) const {
     }
     out[static_cast<std::size_t>(i)] = sum;
   }
+  throw_if_interrupted();
   return out;
 }
 

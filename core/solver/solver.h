@@ -58,8 +58,10 @@ class Solver {
   [[nodiscard]] std::vector<Leaf> leaves() const;
 
   /// Irradiance (W per unit area) at each probe by a final gather over the solved
-  /// radiosity, independent of the mesh at the probe.
-  [[nodiscard]] std::vector<Rgb> probe_irradiance(std::span<const Probe> probes) const;
+  /// radiosity, independent of the mesh at the probe. Reports "probes: i of n" to
+  /// `progress` (from one thread); throws Interrupted after an interrupt.
+  [[nodiscard]] std::vector<Rgb> probe_irradiance(std::span<const Probe> probes,
+                                                  const ProgressFn& progress = {}) const;
 
  private:
   struct Impl;

@@ -1,6 +1,7 @@
 #include "core/transport/open_fraction.h"
 
 #include "core/base/hash.h"
+#include "core/base/interrupt.h"
 #include "core/hierarchy/hierarchy.h"
 #include "core/raycast/ray_scene.h"
 #include "core/transport/transport.h"
@@ -101,9 +102,10 @@ OpenStats update_open_fractions(const std::vector<Element*>& elements, const Hie
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 64) reduction(+ : cast)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     Element& e = *elements[static_cast<std::size_t>(i)];
-    if (e.is_cluster() || !e.child_span().empty() || e.open >= 0) continue;
+    if (e.is_cluster() || !e.child_span().empty() || e.open >= 0 || interrupted()) continue;
     e.open = static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed, &cast));
   }
+  throw_if_interrupted();  // (leaves it skipped keep no estimate)
   // Children after parents in `elements`: walk backwards.
   for (std::ptrdiff_t i = n; i-- > 0;) {
     Element& e = *elements[static_cast<std::size_t>(i)];

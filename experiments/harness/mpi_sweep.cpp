@@ -542,7 +542,7 @@ class Coordinator {
       notes_.push_back(fmt::format(
           "point {} pins threads (pin={}) on workers that share a host: hrad pins to the "
           "host's PUs, not the worker's share, so workers' threads may meet on one core; "
-          "run one worker per host (see README, 'Experiments over MPI')",
+          "run one worker per host (see docs/mpi.md)",
           p.index, p.options.pin));
     }
     if (p.options.threads > min_worker_cpus_ && !warned_threads_) {

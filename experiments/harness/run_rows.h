@@ -1,7 +1,7 @@
 // The flat rows of the result files: one runs.csv row per run (a point and a
 // repetition) and one iterations.csv row per run and refinement iteration, made from
 // the run's RunStats (core/output/run_stats.h). The columns are fixed (same order in every
-// experiment) so scripts can rely on them; see README, "Experiment result files":
+// experiment) so scripts can rely on them; see docs/results.md, "Experiment result files":
 //
 //   identity   config, point, repetition, scene, swept
 //   options    every SolverOptions key, in core/config/options.h order (resolved values)
