@@ -122,9 +122,9 @@ TEST(Interrupt, ProbesAndRenderingStop) {
   (void)s.run();
   std::vector<Probe> probes(1000, Probe{Vec3(278, 1, 280), Vec3(0, 1, 0)});
   std::vector<std::string> lines;
-  const auto seen = s.probe_irradiance(
-      std::span<const Probe>(probes.data(), 10),
-      [&](const std::string& line, double) { lines.push_back(line); });
+  const auto seen =
+      s.probe_irradiance(std::span<const Probe>(probes.data(), 10),
+                         [&](const std::string& line, double) { lines.push_back(line); });
   ASSERT_EQ(seen.size(), 10u);
   ASSERT_FALSE(lines.empty());
   EXPECT_EQ(lines.front().rfind("probes: ", 0), 0u) << lines.front();
