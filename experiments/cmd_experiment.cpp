@@ -15,6 +15,7 @@
 // Under mpirun with more than one rank (experiments/harness/mpi_sweep.h) every rank
 // reads the config; only rank 0 reports, writes and plots, and step 4 is spread over
 // the ranks. Every rank leaves through mpi::end once MPI has started.
+#include "core/base/input_file.h"
 #include "core/base/interrupt.h"
 #include "core/scene/scene_loader.h"
 #include "experiments/commands.h"
@@ -60,6 +61,19 @@ bool resumable(const fs::path& dir, const ExperimentConfig& config) {
   }
 }
 
+// The command that resumes `dir`, as a shell reads it: a name with a blank or a quote
+// in it is quoted (the suggestion broke at the blank).
+std::string resume_command(const std::string& config, const fs::path& dir) {
+  const auto word = [](const std::string& w) {
+    const bool plain = !w.empty() && w.find_first_not_of(
+                                         "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                         "abcdefghijklmnopqrstuvwxyz"
+                                         "0123456789_./:=@%+,-") == std::string::npos;
+    return plain ? w : shell_quote(w);
+  };
+  return fmt::format("hrad experiment {} --resume {}", word(config), word(dir.string()));
+}
+
 int run_command(ExperimentArgs a, const CommandContext& ctx) {
   // Started by an MPI launcher with several ranks: rank 0 speaks for all of them.
   const mpi::LaunchInfo launch = mpi::launch_info();
@@ -84,6 +98,9 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     // Before any folder is made: every scene must be one hrad can load, and every plot
     // one there is a script for.
     for (const std::string& s : config.scenes) check_scene_spec(s);
+    // The simulated curve is read after every run, by the plots: a wrong name would be
+    // found only then.
+    if (!a.simulated.empty()) check_input_file(a.simulated, "the --simulated file");
     if (!a.no_plot)
       require_plot_scripts(config.plots,
                            a.plots_dir.empty() ? default_plots_dir() : fs::path(a.plots_dir));
@@ -160,12 +177,10 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     for (const std::string& w : s.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
   } catch (const Interrupted& e) {
     // The manifest says "interrupted"; the finished runs' rows are complete.
-    print_error(fmt::format(
-        "{}: the experiment stopped; {}", e.what(),
-        resumable(dir, config) ? fmt::format("finished runs are kept; resume with: hrad experiment "
-                                             "{} --resume {}",
-                                             a.config, dir.string())
-                               : std::string("no run had finished")));
+    print_error(fmt::format("{}: the experiment stopped; {}", e.what(),
+                            resumable(dir, config) ? "finished runs are kept; resume with: " +
+                                                         resume_command(a.config, dir)
+                                                   : std::string("no run had finished")));
     return mpi_started ? leave(e.exit_status()) : e.exit_status();
   } catch (const std::exception& e) {
     if (distributed && !lead) {
@@ -175,9 +190,8 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     }
     print_error(e.what());
     if (resumable(dir, config))
-      fmt::print(stderr,
-                 "hrad: finished runs are kept; resume with: hrad experiment {} --resume {}\n",
-                 a.config, dir.string());
+      fmt::print(stderr, "hrad: finished runs are kept; resume with: {}\n",
+                 resume_command(a.config, dir));
     return mpi_started ? leave(1) : 1;
   }
 

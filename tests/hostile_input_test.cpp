@@ -280,9 +280,10 @@ TEST_F(HostileInput, InterruptsStopAtASafePointAndSaySo) {
       << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "run"));  // it made the folder, and removed it empty
 
-  write("e.json", R"({"name": "e", "scenes": ["builtin:cornell", "builtin:lab"],
+  // (A name with a blank: the suggested --resume command quotes it.)
+  write("my e.json", R"({"name": "e", "scenes": ["builtin:cornell", "builtin:lab"],
     "settings": {"iterations": 1}})");
-  r = interrupted("experiment e.json --out x --no-plot", "TERM", 1.0);
+  r = interrupted("experiment 'my e.json' --out x --no-plot", "TERM", 1.0);
   EXPECT_EQ(r.status, 143) << r.err;
   EXPECT_TRUE(contains(r.err, "interrupted by SIGTERM: the experiment stopped")) << r.err;
   const auto manifest = nlohmann::json::parse(hrad::test::read_text(dir_ / "x" / "manifest.json"));
@@ -291,12 +292,68 @@ TEST_F(HostileInput, InterruptsStopAtASafePointAndSaySo) {
   EXPECT_LT(done, 2);
   const std::string rows = hrad::test::read_text(dir_ / "x" / "runs.csv");
   EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 1 + done);  // the header and finished runs
-  EXPECT_EQ(contains(r.err, "resume with"), done > 0) << r.err;
+  EXPECT_EQ(contains(r.err, "resume with: hrad experiment 'my e.json' --resume x"), done > 0)
+      << r.err;
 
   r = interrupted("reference builtin:office --random-probes 64 --out ref --quiet", "INT", 0.5);
   EXPECT_EQ(r.status, 130) << r.err;
   EXPECT_TRUE(contains(r.err, "the reference stopped before writing any result")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "ref"));
+}
+
+// A million probes ignored SIGTERM for 15 minutes; and `timeout` signals the process
+// and its group at once, which was taken as a second signal (the default action: an
+// empty folder, no message). Two signals together are one request, and the files
+// written before the probes (mesh, image) go with the unfinished run.
+TEST_F(HostileInput, AnInterruptDuringProbesLeavesNothing) {
+  std::string probes;
+  for (int i = 0; i < 300000; ++i) probes += "278 1 280 0 1 0\n";
+  write("p.txt", probes);
+  const std::string cmd = "cd '" + dir_.string() +
+                          "' && ( '" HRAD_BINARY
+                          "' solve builtin:cornell --probes p.txt --out run --quiet > .stdout "
+                          "2> .stderr < /dev/null & p=$!; sleep 2; kill -TERM $p; kill -TERM $p; "
+                          "wait $p )";
+  const int rc = std::system(cmd.c_str());
+  ASSERT_TRUE(rc != -1 && WIFEXITED(rc));
+  const std::string err = hrad::test::read_text(dir_ / ".stderr");
+  EXPECT_EQ(WEXITSTATUS(rc), 143) << err;
+  EXPECT_TRUE(contains(err, "interrupted by SIGTERM: the solve stopped before writing any result"))
+      << err;
+  EXPECT_FALSE(fs::exists(dir_ / "run"));
+}
+
+// Two plates 1e-9 apart, facing each other, were asked whether their orientations were
+// flipped; flipped plates still are.
+TEST_F(HostileInput, NoLinkSaysWhy) {
+  const std::string mtl = "newmtl e\nKd 0.5 0.5 0.5\nKe 1 1 1\nnewmtl w\nKd 0.5 0.5 0.5\n";
+  write("plates.mtl", mtl);
+  const std::string v =
+      "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 0 {0} 0\nv 1 {0} 0\nv 1 {0} 1\nv 0 {0} 1\n";
+  const auto scene = [&](const std::string& gap, const std::string& upper) {
+    std::string s = "mtllib plates.mtl\nusemtl e\n" + v;
+    for (std::size_t at; (at = s.find("{0}")) != std::string::npos;) s.replace(at, 3, gap);
+    return s + "f 1 4 3 2\nusemtl w\n" + upper + "\n";
+  };
+  write("near.obj", scene("1e-9", "f 5 6 7 8"));
+  Result r = hrad("solve near.obj --out near --quiet");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err,
+                       "no link: the polygons that face each other are closer than the "
+                       "contact tolerance"))
+      << r.err;
+  write("flipped.obj", scene("0.5", "f 5 8 7 6"));
+  r = hrad("solve flipped.obj --out flipped --quiet");
+  EXPECT_TRUE(contains(r.err, "are the faces' orientations flipped?")) << r.err;
+}
+
+// --simulated FILE was read only by the plots, after every run.
+TEST_F(HostileInput, ASimulatedCurveIsCheckedBeforeTheRuns) {
+  write("e.json", R"({"name": "e", "scenes": ["builtin:cornell"], "settings": {"iterations": 1}})");
+  const Result r = hrad("experiment e.json --out x --simulated nope.csv");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "nope.csv: the --simulated file does not exist")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
 // Issue 15's rough edges, each as it was reported.

@@ -75,6 +75,26 @@ TEST_F(InputFiles, ATraceNeverOverwritesAnotherFile) {
 
 // A UTF-8 byte-order mark at the start of an OBJ, MTL, MGF, probe or view file broke
 // its first line; now each reads as it does without one.
+// A NUL byte (a binary file given as text) cut the message that quoted its line.
+TEST_F(InputFiles, ANulByteIsNamedWithItsLine) {
+  write("p.txt", std::string("0.5 0.5 0.5 0 0 1\n0.5 0.\0 5 0 0 1\n", 35));
+  refused("solve builtin:cornell --probes p.txt --out run",
+          "p.txt:2: a NUL byte at column 7: this is not a text file");
+  write("box.obj", std::string("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\0 3\n", 34));
+  refused("solve box.obj --out run", "box.obj:4: a NUL byte at column 6");
+  write("v.view", std::string("eye 0 0 1\nlook 0\0 0 0\n", 23));
+  refused("solve builtin:cornell --view v.view --out run", "v.view:2: a NUL byte at column 7");
+}
+
+// A full disk said "the stream failed" instead of the system's reason. A file size
+// limit (ulimit -f, with SIGXFSZ ignored) fails the writes the same way, with EFBIG.
+TEST_F(InputFiles, AFailedWriteSaysWhy) {
+  const Result r =
+      hrad("solve builtin:cornell --iterations 1 --out run --quiet", "trap '' XFSZ; ulimit -f 8; ");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_TRUE(contains(r.err, "error while writing run/solution.ply: File too large")) << r.err;
+}
+
 TEST_F(InputFiles, AByteOrderMarkIsSkipped) {
   const std::string bom = "\xEF\xBB\xBF";
   const std::string obj =

@@ -42,6 +42,20 @@ TEST_F(OptionBounds, ThreadCountsAreBoundedEverywhere) {
   refused("solve builtin:cornell --set row_sum_rays=10000000 --out run", "row_sum_rays");
 }
 
+// A value out of range in a configuration file is said with the file's name, and one
+// that underflowed to 0 (1e-400) says so: it was quoted as "eps = 0" with no file.
+TEST_F(OptionBounds, AConfigFilesValueOutOfRangeNamesTheFile) {
+  write("uf.json", R"({"iterations": 2, "eps": 1e-400})");
+  refused("solve builtin:cornell --config uf.json --out run",
+          "uf.json: option eps = 0 is out of range");
+  refused("solve builtin:cornell --config uf.json --out run", "reads as 0");
+  write("neg.json", R"({"threads": -3})");
+  refused("solve builtin:cornell --config neg.json --out run",
+          "neg.json: option threads = -3 is out of range");
+  const Result r = hrad("solve builtin:cornell --config neg.json --out run");
+  EXPECT_FALSE(contains(r.err, "reads as 0")) << r.err;
+}
+
 TEST_F(OptionBounds, ReferenceNumbersAreFiniteAndInRange) {
   refused("reference builtin:cornell --random-probes 4 --max-samples -1 --out ref",
           "--max-samples");

@@ -50,6 +50,31 @@ TEST(Topology, SyntheticTwoNodes) {
   }
 }
 
+// hwloc rejected these and described this machine instead, without a word.
+TEST(Topology, ARejectedSyntheticOrXmlTopologyIsAnError) {
+  {
+    EnvGuard env("HWLOC_SYNTHETIC", "bogus:3");
+    try {
+      (void)discover_topology();
+      ADD_FAILURE() << "accepted";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find("HWLOC_SYNTHETIC=\"bogus:3\": hwloc does not accept"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  if (user_set_topology()) return;  // the other variable may be the user's
+  EnvGuard env("HWLOC_XMLFILE", "/nonexistent/topology.xml");
+  try {
+    (void)discover_topology();
+    ADD_FAILURE() << "accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("HWLOC_XMLFILE=/nonexistent/topology.xml: hwloc cannot"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Topology, SyntheticPackagesWithHyperthreads) {
   EnvGuard env("HWLOC_SYNTHETIC", "pack:2 node:2 core:4 pu:2");
   const TopologyInfo t = discover_topology();

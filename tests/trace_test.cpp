@@ -75,6 +75,33 @@ TEST(Trace, RecordsEveryTaskAndItsChildrenExactlyOnce) {
   }
 }
 
+// A header that does not describe its body (another run's, or edited) was accepted.
+TEST(Trace, TheHeaderMustDescribeItsBody) {
+  const auto path = std::filesystem::temp_directory_path() / "hrad-header-test.trace";
+  std::vector<TraceRecord> records(3);
+  records[2].worker = 1;
+  const auto fails = [&](const std::string& header, const std::string& what) {
+    write_trace(path, header, records);
+    try {
+      (void)read_trace(path, nullptr);
+      ADD_FAILURE() << header << ": accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  const std::string good =
+      R"({"format":"hrad-trace","version":1,"record_bytes":32,"records":3,"threads":2})";
+  write_trace(path, good, records);
+  EXPECT_EQ(read_trace(path, nullptr).size(), 3u);
+  fails(R"({"format":"hrad-trace","version":1,"records":3,"threads":1})",
+        "record 2 ran on refiner 1, but the run had 1 thread");
+  fails(R"({"format":"hrad-trace","version":1,"records":4})",
+        "it says 4 records, the body holds 3");
+  fails(R"({"format":"hrad-trace","version":1,"record_bytes":16})", "records of 16 bytes");
+  fails(R"({"format":"hrad-trace","version":2})", "version 2");
+  std::filesystem::remove(path);
+}
+
 TEST(Trace, RejectsFilesThatAreNotTraces) {
   const auto path = std::filesystem::temp_directory_path() / "hrad-not-a-trace.bin";
   { std::ofstream(path) << "hello\n"; }

@@ -12,9 +12,11 @@ namespace hrad {
 
 namespace {
 
-/// What the C library said about the last failed call, or a generic reason.
-std::string reason() {
-  return errno != 0 ? std::strerror(errno) : std::string("the stream failed");
+/// What the C library said about the failed call (errno, or `saved` when the call that
+/// failed came before others that reset it), or a generic reason.
+std::string reason(int saved = 0) {
+  const int e = saved != 0 ? saved : errno;
+  return e != 0 ? std::strerror(e) : std::string("the stream failed");
 }
 
 }  // namespace
@@ -36,12 +38,18 @@ void write_file_atomically(const std::filesystem::path& path,
       std::filesystem::remove(tmp);
       throw;
     }
-    errno = 0;
-    out.flush();
+    // The first failure's errno is the reason (a full disk: "No space left on device");
+    // the calls after it may reset errno. Closing writes the rest of the buffer, so it
+    // is checked too.
+    int failed = out ? 0 : errno;
+    if (out) out.flush();
+    if (!out && failed == 0) failed = errno;
+    if (out) out.close();
     if (!out) {
-      const std::string why = reason();
-      out.close();
-      std::filesystem::remove(tmp);
+      const std::string why = reason(failed);
+      if (out.is_open()) out.close();
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
       throw std::runtime_error(fmt::format("error while writing {}: {}", path.string(), why));
     }
   }

@@ -14,6 +14,11 @@ namespace hrad {
 /// files (JSON parsers skip it already).
 std::string without_bom(std::string text);
 
+/// A text file's contents as the readers take them: without_bom, and refused with
+/// InputError(file, line, "a NUL byte ...") when the text holds a NUL byte (a binary
+/// file; a message quoting the line was cut at the NUL).
+std::string checked_text(std::string text, const std::string& file);
+
 /// Throws InputError(path, 0, "... does not exist" / "... is not a regular file (a
 /// folder, a FIFO or a device)") unless `path` names a regular file (or a link to one).
 /// `what` names the file's role in the message ("the probe file").

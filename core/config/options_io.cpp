@@ -414,6 +414,7 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
     throw std::invalid_argument(
         fmt::format("{}: the configuration must be a JSON object of option keys, not a {}", source,
                     j.type_name()));
+  std::string underflow;  // the first key whose number read as 0 (1e-400 does)
   for (const auto& item : j.items()) {
     // Named references, not a structured binding: clang 14 cannot capture those.
     const std::string& key = item.key();
@@ -439,6 +440,20 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
           o.*member = parsed;
         },
         r->member);
+    if (value.is_number_float() && value.get<double>() == 0 && underflow.empty()) underflow = key;
+  }
+  // The file's values in range, said with its name (the whole check comes later, when
+  // the command line has been applied too).
+  try {
+    validate_ranges(o);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format(
+        "{}: {}{}", source, e.what(),
+        underflow.empty() || std::string_view(e.what()).find("option " + underflow + " ") != 0
+            ? ""
+            : fmt::format(" (the number given for '{}' reads as 0: a number below "
+                          "about 1e-308 is too small for a double)",
+                          underflow)));
   }
 }
 
@@ -473,7 +488,7 @@ void apply_option_assignment(SolverOptions& o, const std::string& key_eq_value) 
                      std::string_view(key_eq_value).substr(eq + 1), "--set " + key_eq_value);
 }
 
-void validate_options(const SolverOptions& o) {
+void validate_ranges(const SolverOptions& o) {
   const auto str = [](auto v) { return fmt::format("{}", v); };
   // Every number has an upper bound too, checked before anything is made: a thread
   // count of 100000 crashed the OpenMP runtime, a billion ran out of memory, and an
@@ -510,6 +525,10 @@ void validate_options(const SolverOptions& o) {
         "a number of stops between -64 and 64");
   for (const Row& r : rows())
     if (r.check_text) std::visit([&](auto member) { check_syntax(r, o.*member, ""); }, r.member);
+}
+
+void validate_options(const SolverOptions& o) {
+  validate_ranges(o);
   // Plug-in parameters: declared, in range, and of the selected plug-in (nobody else
   // would read them).
   for (const auto& [key, value] : o.plugin_params) {

@@ -61,8 +61,8 @@ struct OptionInfo {
 /// Applies the keys present in `j` (a JSON object) to `o`; absent keys are left alone.
 /// `source` (a file name) starts every error message. Throws std::invalid_argument
 /// for a non-object, an unknown key (listing the valid ones) or a value of the wrong
-/// type (naming key and expected type). Values are not range-checked here: see
-/// validate_options.
+/// type (naming key and expected type), and for a value out of range once the file is
+/// applied (validate_ranges, with `source` and a word on numbers that underflow to 0).
 void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::string& source);
 
 /// Parses `value` as the key's type and stores it. `source` ("--set", "--threads")
@@ -77,6 +77,9 @@ void apply_option_assignment(SolverOptions& o, const std::string& key_eq_value);
 /// Range checks (threads >= 1, eps > 0, ...). Throws std::invalid_argument whose
 /// message names the first offending option, its value and the allowed range.
 void validate_options(const SolverOptions& o);
+/// The same without the plug-in parameters' check against the selected plug-ins (which
+/// a later source may select): what apply_options_json checks of a file's values.
+void validate_ranges(const SolverOptions& o);
 
 /// The selected plug-in's parameters, by KEY: the `kind` ("scheduler" or "oracle") keys
 /// KIND.NAME.KEY of o.plugin_params whose NAME is o.scheduler (o.oracle).

@@ -56,7 +56,23 @@ TopologyPtr load() {
   hwloc_topology_t raw = nullptr;
   if (hwloc_topology_init(&raw) != 0) throw std::runtime_error("hwloc: cannot initialise");
   TopologyPtr topo(raw);
-  // hwloc_topology_load reads HWLOC_SYNTHETIC / HWLOC_XMLFILE on its own (each call).
+  // hwloc_topology_load reads HWLOC_SYNTHETIC / HWLOC_XMLFILE on its own, but falls back
+  // to this machine without a word when it rejects them: a study of a planned machine
+  // would then describe the wrong one. So they are given explicitly, and a rejected
+  // one is an error.
+  if (const char* s = std::getenv("HWLOC_SYNTHETIC"); s && *s) {
+    if (hwloc_topology_set_synthetic(raw, s) != 0)
+      throw std::runtime_error(fmt::format(
+          "HWLOC_SYNTHETIC=\"{}\": hwloc does not accept this description (the form is "
+          "levels with counts, e.g. \"node:2 core:8 pu:1\"); unset it to use this machine",
+          s));
+  } else if (const char* x = std::getenv("HWLOC_XMLFILE"); x && *x) {
+    if (hwloc_topology_set_xml(raw, x) != 0)
+      throw std::runtime_error(fmt::format(
+          "HWLOC_XMLFILE={}: hwloc cannot read it as a topology (lstopo writes one: lstopo "
+          "FILE.xml); unset it to use this machine",
+          x));
+  }
   if (hwloc_topology_load(raw) != 0)
     throw std::runtime_error(
         "hwloc: cannot load the topology (check HWLOC_SYNTHETIC / "

@@ -4,6 +4,9 @@
 #include "core/base/input_error.h"
 #include "core/base/input_file.h"
 
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
 #include <bit>
 #include <fstream>
 #include <stdexcept>
@@ -55,8 +58,41 @@ std::vector<TraceRecord> read_trace(const std::filesystem::path& path, std::stri
   in.seekg(body_start);
   in.read(reinterpret_cast<char*>(records.data()), static_cast<std::streamsize>(bytes));
   if (!in) throw std::runtime_error(path.string() + ": read error");
+  check_trace_body(path.string(), header, records);
   if (header_json) *header_json = header;
   return records;
+}
+
+void check_trace_body(const std::string& file, const std::string& header,
+                      const std::vector<TraceRecord>& records) {
+  const nlohmann::json h = nlohmann::json::parse(header, nullptr, false);
+  const auto bad = [&](const std::string& what) {
+    throw std::runtime_error(
+        fmt::format("{}: the trace's header does not match its body: {}", file, what));
+  };
+  if (!h.is_object()) bad("the header is not a JSON object");
+  const auto number = [&](const char* key) -> const nlohmann::json* {
+    const auto it = h.find(key);
+    if (it == h.end()) return nullptr;
+    if (!it->is_number_unsigned()) bad(fmt::format("'{}' is not a count", key));
+    return &*it;
+  };
+  if (const auto v = h.find("version"); v == h.end() || *v != 1)
+    bad(fmt::format("version {} (this hrad reads version 1)",
+                    v == h.end() ? std::string("missing") : v->dump()));
+  if (const auto* b = number("record_bytes"); b && b->get<std::uint64_t>() != sizeof(TraceRecord))
+    bad(fmt::format("records of {} bytes (they are {})", b->get<std::uint64_t>(),
+                    sizeof(TraceRecord)));
+  if (const auto* n = number("records"); n && n->get<std::uint64_t>() != records.size())
+    bad(fmt::format("it says {} records, the body holds {} (cut short, or another trace's?)",
+                    n->get<std::uint64_t>(), records.size()));
+  if (const auto* t = number("threads")) {
+    const std::uint64_t threads = t->get<std::uint64_t>();
+    for (std::size_t i = 0; i < records.size(); ++i)
+      if (records[i].worker >= threads)
+        bad(fmt::format("record {} ran on refiner {}, but the run had {} thread{}", i,
+                        records[i].worker, threads, threads == 1 ? "" : "s"));
+  }
 }
 
 }  // namespace hrad

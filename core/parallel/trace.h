@@ -50,7 +50,13 @@ void write_trace(const std::filesystem::path& path, const std::string& header_js
 void check_trace_target(const std::filesystem::path& path);
 
 /// Reads a file written by write_trace; throws std::runtime_error naming the file
-/// when it is not one.
+/// when it is not one, or when its header does not match its body (check_trace_body).
 std::vector<TraceRecord> read_trace(const std::filesystem::path& path, std::string* header_json);
+
+/// Throws std::runtime_error naming `file` unless the header (JSON) says version 1 and,
+/// where it gives them, the record size, the number of records and a thread count
+/// above every record's refiner.
+void check_trace_body(const std::string& file, const std::string& header,
+                      const std::vector<TraceRecord>& records);
 
 }  // namespace hrad

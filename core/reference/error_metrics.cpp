@@ -137,7 +137,7 @@ ProbeTable read_probe_table(const std::filesystem::path& path) {
   if (!in) throw InputError(file.string(), 0, "cannot open the file");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parse_probe_table(without_bom(ss.str()), file.string());
+  return parse_probe_table(checked_text(ss.str(), file.string()), file.string());
 }
 
 ProbeComparison compare_probes(const ProbeTable& a, const ProbeTable& r, double floor) {

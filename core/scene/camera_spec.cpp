@@ -117,6 +117,9 @@ CameraSpec read_view_file(const std::filesystem::path& path) {
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     if (number == 1) line = without_bom(std::move(line));
+    if (const auto nul = line.find('\0'); nul != std::string::npos)
+      throw InputError(file, number,
+                       fmt::format("a NUL byte at column {}: this is not a text file", nul + 1));
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     std::istringstream words(line);
     std::string keyword;

@@ -552,7 +552,7 @@ std::string read_text(const std::string& path, const std::string& err_file, int 
   text << in.rdbuf();
   if (!in.good() && !in.eof())
     throw InputError(err_file, err_line, fmt::format("cannot read {}", what));
-  return without_bom(std::move(text).str());
+  return checked_text(std::move(text).str(), path);
 }
 
 /// The files one mtllib statement names: the whole rest of the line when that is a

@@ -88,7 +88,7 @@ std::vector<Probe> read_probes(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw InputError(path, 0, "error while reading the probe file");
-  return parse_probes(without_bom(text.str()), path);
+  return parse_probes(checked_text(text.str(), path), path);
 }
 
 std::vector<Probe> random_surface_probes(const Scene& scene, std::size_t n, std::uint64_t seed) {

@@ -114,6 +114,40 @@ struct RunState {
   double contraction = 0;
 };
 
+// Why a scene with several polygons has no link, as far as a look at its faces' centres
+// can tell: none faces another (flipped orientations?), or the facing ones are closer
+// than the rays' contact tolerance (two plates 1e-9 apart were asked "flipped?"). Looks
+// at the first kMaxFaces faces only (all pairs).
+std::string no_link_warning(const Scene& scene, double diagonal) {
+  constexpr std::size_t kMaxFaces = 3000;
+  const std::size_t n = std::min(scene.faces.size(), kMaxFaces);
+  std::vector<Vec3> c(n), nrm(n);
+  for (std::size_t f = 0; f < n; ++f) {
+    c[f] = polygon_centroid(scene.face_vertices(f));
+    nrm[f] = scene.face_normal(f);
+  }
+  const double contact = RayScene::kEndpointEpsilon * diagonal;
+  double nearest = std::numeric_limits<double>::infinity();  // of the facing pairs
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = a + 1; b < n; ++b) {
+      const Vec3 d = c[b] - c[a];
+      const double ahead = nrm[a].dot(d), behind = nrm[b].dot(d);
+      if (ahead > 0 && behind < 0) nearest = std::min(nearest, std::min(ahead, -behind));
+    }
+  if (nearest <= contact)
+    return fmt::format(
+        "no link: the polygons that face each other are closer than the contact tolerance "
+        "({:.3g}, 1e-5 of the scene's diagonal), so they count as touching, and touching "
+        "faces exchange no light: move them apart, or make them one solid",
+        contact);
+  if (std::isfinite(nearest))
+    return "no link: polygons face each other, but no pair was linked (each hidden from the "
+           "others by something between them?), so nothing but emission is seen";
+  return "no link: no two polygons face each other, so nothing but emission is seen (a polygon "
+         "sends and receives light on the side its normal points to, by the right-hand rule "
+         "over its vertex order: are the faces' orientations flipped?)";
+}
+
 }  // namespace
 
 struct Solver::Impl {
@@ -452,10 +486,7 @@ void Solver::Impl::count_links(int it, const std::vector<Element*>& elements, It
   std::uint64_t links = 0;
   for (const Element* e : elements) links += e->links.size();
   if (it == 1 && links == 0 && scene.faces.size() > 1)
-    stats.warnings.push_back(
-        "no link: no two polygons face each other, so nothing but emission is seen (a polygon "
-        "sends and receives light on the side its normal points to, by the right-hand rule "
-        "over its vertex order: are the faces' orientations flipped?)");
+    stats.warnings.push_back(no_link_warning(scene, rays.scale()));
   is.links = links;
   is.elements = elements.size();
   is.bytes["elements"] = hierarchy.element_bytes();

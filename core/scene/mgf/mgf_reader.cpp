@@ -373,7 +373,7 @@ const Source& MgfParser::load(const fs::path& p, const SourceLoc& at) {
   auto src = std::make_unique<Source>();
   src->path = p.string();
   src->dir = p.parent_path();
-  src->owned = without_bom(std::move(ss).str());
+  src->owned = checked_text(std::move(ss).str(), p.string());
   src->text = src->owned;
   src->entities = split_entities(src->text);
   return *sources_.emplace(key, std::move(src)).first->second;
@@ -831,7 +831,8 @@ Scene read_mgf(const std::string& path, const MgfOptions& options) {
   std::ostringstream ss;
   ss << in.rdbuf();
   MgfParser p(fs::path(path).stem().string(), path, options);
-  p.run_main(make_source(path, fs::path(path).parent_path(), without_bom(std::move(ss).str()), {}));
+  p.run_main(
+      make_source(path, fs::path(path).parent_path(), checked_text(std::move(ss).str(), path), {}));
   return p.finish(path);
 }
 
