@@ -92,6 +92,8 @@ TEST(CameraSpec, RejectsMalformedTextNamingTheBadPart) {
       {"eye=0,0,0:look=0,5,0:up=0,2,0", "up (0,2,0) is parallel to the view"},
       {"eye=0,0,0:look=1,0,0:up=0,0,0", "up must not be zero"},
       {"eye=0,0,0 look=1,0,0", "'eye=0,0,0 look=1,0,0' needs three numbers"},
+      {"eye=1e31,0,0:look=0,0,0", "eye (1e+31,0,0) is beyond +-1e30"},
+      {"eye=0,0,0:look=0,-2e30,0", "look (0,-2e+30,0) is beyond +-1e30"},
   };
   for (const auto& [text, message] : cases) {
     // (clang 14, the TSan build's compiler, cannot capture a structured binding.)
@@ -107,6 +109,9 @@ TEST(CameraSpec, ResolvingNamesAViewAlongTheDefaultUp) {
       error_of<std::invalid_argument>([&] { (void)resolve_camera(s, Vec3::UnitY()); });
   EXPECT_TRUE(contains(e, "parallel to the scene's up axis (0,1,0); give up=X,Y,Z")) << e;
   EXPECT_EQ(resolve_camera(s, Vec3::UnitZ()).up, Vec3::UnitZ());
+  // A far eye is no reason: the products overflowed, and every view was "parallel".
+  const CameraSpec far = parse_camera_spec("eye=1e29,1e29,1e29:look=0,0,0");
+  EXPECT_EQ(resolve_camera(far, Vec3::UnitY()).eye, Vec3::Constant(1e29));
 }
 
 TEST(CameraSpec, SpecStringReadsBackExactly) {

@@ -192,6 +192,25 @@ TEST(RayScene, IntersectRespectsTmaxAndMisses) {
   EXPECT_THROW((void)rs.intersect({0, 0, 0}, {0, 0, 0}), std::invalid_argument);
 }
 
+// A camera 1e30 from a unit scene: 1e30 in the normalised frame is past where Embree's
+// rays may start, and its assertion ended the process. The ray starts again near the
+// scene, and t still counts from the given origin.
+TEST(RayScene, RaysFromFarAwayHitWhatTheyPointAt) {
+  const RayScene rs = square_and_triangle().build();
+  for (const double far : {10.0, 1e10, 1e30}) {
+    const auto hit = rs.intersect({0.2, 0.2, far}, {0, 0, -1});
+    ASSERT_TRUE(hit) << far;
+    EXPECT_EQ(hit->prim, 0u) << far;
+    EXPECT_NEAR(hit->t, far, 1e-9 * far) << far;
+    EXPECT_FALSE(rs.intersect({0.2, 0.2, far}, {0, 0, 1})) << far;            // away
+    EXPECT_FALSE(rs.intersect({0.2, 5, far}, {0, 0, -1})) << far;             // beside
+    EXPECT_FALSE(rs.intersect({0.2, 0.2, far}, {0, 0, -1}, far / 2)) << far;  // short
+  }
+  const auto slanted = rs.intersect({0.5 - 1e6, 0.3, 1e6}, Vec3(1, 0, -1));
+  ASSERT_TRUE(slanted);
+  EXPECT_EQ(slanted->prim, 0u);
+}
+
 TEST(RayScene, EmptySceneNeverHits) {
   const RayScene rs(std::span<const Vec3>{}, {}, {});
   EXPECT_EQ(rs.scale(), 0.0);

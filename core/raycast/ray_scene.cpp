@@ -367,13 +367,27 @@ bool RayScene::occluded(const Vec3& from, const Vec3& to, std::uint32_t ignore_a
 std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, double tmax,
                                           std::uint32_t ignore) const {
   const Impl& m = *impl_;
-  const Vec3 o = (origin - m.centre) * m.inv_scale;
+  Vec3 o = (origin - m.centre) * m.inv_scale;
   const Vec3 d = dir * m.inv_scale;
   const double len = d.norm();
   if (!(len > 0) || !std::isfinite(len))
     throw std::invalid_argument("RayScene::intersect: direction must be finite and non-zero");
   const double tnear = kEndpointEpsilon / len;
   if (m.polygons == 0 || !(tmax >= tnear)) return std::nullopt;
+  // From far away (a camera 1e30 from a scene 555 across: 2e27 in the normalised frame,
+  // past the 1.8e19 Embree's rays may start at, and its assertion ended the process)
+  // the ray starts anew just outside the scene's sphere (radius 1/2 about the centre),
+  // and its distances count from there.
+  double skipped = 0;  // normalised distance along the ray from `o` to the new start
+  if (o.cwiseAbs().maxCoeff() > kFarOrigin) {
+    const Vec3 u = d / len;
+    const double along = -o.dot(u);  // to the point nearest the centre
+    if (!(along > 0) || !((o + along * u).norm() <= 1)) return std::nullopt;  // passes by
+    // (From the nearest point, not `o + skipped u`: at 1e30, along - 1 is along.)
+    skipped = along - 1;
+    o = (o + along * u) - u;
+    if (!(tmax * len - skipped >= kEndpointEpsilon)) return std::nullopt;
+  }
   // Embree takes a unit direction here (its rays must have |dir| below 1.8e18: a
   // direction of length 1 in a scene 1e-20 across is 6e19 in the normalised frame,
   // and its assertion ended the process), with distances along it in the normalised
@@ -390,7 +404,7 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
   rh.ray.dir_y = static_cast<float>(u.y());
   rh.ray.dir_z = static_cast<float>(u.z());
   rh.ray.tnear = static_cast<float>(kEndpointEpsilon);
-  rh.ray.tfar = to_float_distance(tmax * len);
+  rh.ray.tfar = to_float_distance(tmax * len - skipped);
   rh.ray.time = 0;
   rh.ray.mask = ~0u;
   rh.ray.id = 0;
@@ -410,7 +424,7 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
   }
   hit.u = rh.hit.u;
   hit.v = rh.hit.v;
-  hit.t = static_cast<double>(rh.ray.tfar) / len;
+  hit.t = (static_cast<double>(rh.ray.tfar) + skipped) / len;
   // Recompute t in double precision from the polygon's plane, unless the ray grazes
   // the plane (|cos| < 1e-3), where the plane intersection is ill-conditioned.
   const Vec3& n = m.normal[hit.prim];

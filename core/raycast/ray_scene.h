@@ -54,6 +54,10 @@ class RayScene {
   /// about 1 degree). The price: an occluder within 1e-5 of the diagonal of an end
   /// point is missed (0.1 mm in a 10 m room).
   static constexpr double kEndpointEpsilon = 1e-5;
+  /// intersect() from farther than this many diagonals from the scene's centre starts
+  /// the ray again just outside the scene (a camera far away): Embree's single
+  /// precision rays may not start beyond 1.8e19, and lose the scene's detail long before.
+  static constexpr double kFarOrigin = 4;
 
   /// Polygons are convex and planar (triangles, quads, or larger convex polygons that
   /// are fan-triangulated internally). Degenerate polygons are accepted and never hit.

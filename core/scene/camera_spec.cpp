@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace hrad {
@@ -31,11 +32,23 @@ std::vector<std::string_view> split(std::string_view text, char sep) {
 }
 
 bool parallel(const Vec3& a, const Vec3& b) {
-  return !(a.cross(b).norm() > 1e-9 * a.norm() * b.norm());
+  // Each scaled by its largest part first: the products overflowed for an eye 1e200
+  // away, and every view came out "parallel to the scene's up axis".
+  const double sa = a.cwiseAbs().maxCoeff(), sb = b.cwiseAbs().maxCoeff();
+  if (!(sa > 0) || !(sb > 0)) return true;
+  const Vec3 x = a / sa, y = b / sb;
+  return !(x.cross(y).norm() > 1e-9 * x.norm() * y.norm());
 }
+
+/// As far as a scene's own coordinates may reach (SceneBuilder).
+constexpr double kMaxCameraCoordinate = 1e30;
 
 /// What is wrong with a spec whose parts are each valid, or "" when nothing is.
 std::string inconsistency(const CameraSpec& s) {
+  for (const auto& [name, p] : {std::pair{"eye", s.eye}, std::pair{"look", s.look}})
+    if (!(p.cwiseAbs().maxCoeff() <= kMaxCameraCoordinate))
+      return fmt::format("{} ({:g},{:g},{:g}) is beyond +-1e30, as no scene's coordinates are",
+                         name, p.x(), p.y(), p.z());
   if (s.look == s.eye) return "look is the same point as eye";
   if (s.up && parallel(*s.up, s.look - s.eye))
     return fmt::format("up ({:g},{:g},{:g}) is parallel to the view from eye to look", s.up->x(),

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -188,7 +189,9 @@ void SceneBuilder::triangulate(std::span<const std::uint32_t> idx, std::uint32_t
   // The reflex corners by grid cell (about one corner per cell); a corner that stops
   // being reflex, or is cut, is skipped by its flag.
   const Eigen::Vector2d extent = hi - lo;
-  const auto [gx, gy] = grid_shape(extent.x(), extent.y(), n);
+  // (Not a structured binding: the ear test below captures these, and clang 14 cannot.)
+  const std::array<std::size_t, 2> shape = grid_shape(extent.x(), extent.y(), n);
+  const std::size_t gx = shape[0], gy = shape[1];
   const Eigen::Vector2d cell(extent.x() / static_cast<double>(gx),
                              extent.y() / static_cast<double>(gy));
   std::vector<std::vector<std::size_t>> bins(gx * gy);

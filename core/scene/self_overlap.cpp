@@ -101,7 +101,8 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
   }
   // Edges binned by their boxes on a grid of about k cells; pairs meet in a cell.
   const Point extent = hi - lo;
-  const auto [gx, gy] = grid_shape(extent.x(), extent.y(), k);
+  const std::array<std::size_t, 2> shape = grid_shape(extent.x(), extent.y(), k);
+  const std::size_t gx = shape[0], gy = shape[1];
   const Point cell(extent.x() / static_cast<double>(gx), extent.y() / static_cast<double>(gy));
   std::vector<std::vector<std::size_t>> bins(gx * gy);
   for (std::size_t i = 0; i < k; ++i) {
