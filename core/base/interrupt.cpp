@@ -25,11 +25,12 @@ std::int64_t monotonic_ns() {
 
 extern "C" void on_interrupt(int sig) {
   const std::int64_t now = monotonic_ns();
+  // The time first, so that a second signal (on another thread) never sees the flag
+  // without it.
+  std::int64_t unset = 0;
+  g_first_ns.compare_exchange_strong(unset, now, std::memory_order_relaxed);
   int none = 0;
-  if (g_signal.compare_exchange_strong(none, sig, std::memory_order_relaxed)) {
-    g_first_ns.store(now, std::memory_order_relaxed);
-    return;
-  }
+  if (g_signal.compare_exchange_strong(none, sig, std::memory_order_relaxed)) return;
   // Signals within kSameRequestSeconds of the first are the same request: `timeout`
   // signals the process and then its whole group, and a terminal's Ctrl-C reaches
   // every process of the foreground group. Only a later one means "now".
@@ -70,7 +71,7 @@ void throw_if_interrupted() {
 }
 
 void simulate_interrupt(int signal) {
-  g_first_ns.store(monotonic_ns(), std::memory_order_relaxed);
+  g_first_ns.store(signal != 0 ? monotonic_ns() : 0, std::memory_order_relaxed);
   g_signal.store(signal, std::memory_order_relaxed);
 }
 

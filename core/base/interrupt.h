@@ -6,11 +6,12 @@
 // more than kSameRequestSeconds later ends the process at once, as the signal's default
 // action would (signals that arrive together, as `timeout` sends them to the process
 // and its group, are one request). Every long loop polls interrupted() where stopping
-// is safe (scene reading and triangulation, the overlap checks, refinement blocks and
-// single long tasks, open fractions, push weights, row sums, propagation sweeps,
-// meshing, rendering, probes, path-tracing batches, experiment runs, comparisons) and
-// unwinds with Interrupted, within about a second of the signal; each command then
-// removes or marks what it had not finished and exits with 128 + the signal.
+// is safe (scene building and triangulation, the overlap checks, the solver's setup,
+// refinement blocks, open fractions, push weights, row sums, propagation sweeps,
+// rendering, probes, path-tracing batches, experiment runs) and unwinds with
+// Interrupted, within about a second of the signal; each command then removes or marks
+// what it had not finished and exits with 128 + the signal. (Commands that write at
+// most one file, atomically at their end, keep the default action: experiments/main.cpp.)
 #pragma once
 
 #include <cstddef>
