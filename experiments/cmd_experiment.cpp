@@ -256,7 +256,10 @@ void register_experiment(CLI::App& app, CommandContext& ctx) {
                   "rank per host) [default: share]")
       ->type_name("share|inherit")
       ->check(CLI::IsMember({"share", "inherit"}));
-  sub->callback([args, &ctx] { ctx.status = run_command(*args, ctx); });
+  sub->callback([args, &ctx] {
+    install_interrupt_handlers();  // stops at a safe point (core/base/interrupt.h)
+    ctx.status = run_command(*args, ctx);
+  });
 }
 
 }  // namespace hrad::cli

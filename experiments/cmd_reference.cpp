@@ -261,7 +261,10 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--segments", args->scene_keys.segments, scene_key_help("segments"))
       ->type_name("N");
   sub->add_flag("--quiet", args->quiet, "No progress line and no summary");
-  sub->callback([args, &ctx] { ctx.status = run_reference(*args, ctx); });
+  sub->callback([args, &ctx] {
+    install_interrupt_handlers();  // stops at a safe point (core/base/interrupt.h)
+    ctx.status = run_reference(*args, ctx);
+  });
 }
 
 }  // namespace hrad::cli

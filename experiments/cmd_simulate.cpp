@@ -196,9 +196,8 @@ int run_simulate(const SimulateArgs& a, const std::vector<std::string>& argv) {
   std::string header;
   std::vector<TraceRecord> records = read_trace(a.trace, &header);
   if (records.empty()) throw std::runtime_error(a.trace + ": the trace has no task");
-  nlohmann::json h = nlohmann::json::parse(header, nullptr, false);
-  if (h.is_discarded() || !h.is_object())
-    throw std::runtime_error(a.trace + ": not an hrad trace (the header is not a JSON object)");
+  // (read_trace checked that the header is a JSON object describing the body.)
+  const nlohmann::json h = nlohmann::json::parse(header);
   const std::string scheduler =
       !a.scheduler.empty() ? a.scheduler : h.value("scheduler", std::string("stack"));
   // A name from the header is the trace's, not a flag's: say so, and what to do.

@@ -478,7 +478,10 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
   sub->add_flag("--quiet", args->quiet,
                 "No progress line and no summary (warnings and errors are still printed)");
 
-  sub->callback([args, &ctx] { ctx.status = run_solve(*args, ctx); });
+  sub->callback([args, &ctx] {
+    install_interrupt_handlers();  // stops at a safe point (core/base/interrupt.h)
+    ctx.status = run_solve(*args, ctx);
+  });
 }
 
 }  // namespace hrad::cli

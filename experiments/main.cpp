@@ -1,8 +1,6 @@
 // hrad: the command-line front end. Subcommands live in cmd_*.cpp (see commands.h).
 #include "experiments/commands.h"
 
-#include "core/base/interrupt.h"
-
 #include <fmt/format.h>
 
 #include <charconv>
@@ -81,15 +79,11 @@ int main(int argc, char** argv) {
   CLI::App app{"hrad: a testbed for parallel hierarchical radiosity with clustering.", "hrad"};
   app.set_version_flag("--version", version_string());
   app.require_subcommand(1);
-  // SIGINT and SIGTERM stop the commands that write results as they go at a safe point
-  // (core/base/interrupt.h). The others (compare, simulate, topology, scenes) write at
-  // most one file at their end, atomically: the signal's default action ends them at
-  // once and leaves nothing half-written.
-  if (argc > 1) {
-    const std::string_view command = argv[1];
-    if (command == "solve" || command == "experiment" || command == "reference")
-      hrad::install_interrupt_handlers();
-  }
+  // SIGINT and SIGTERM: solve, reference and experiment, which write results as they
+  // go, install handlers that stop them at a safe point (core/base/interrupt.h). The
+  // others (compare, simulate, topology, scenes) write at most one file at their end,
+  // atomically: the signal's default action ends them at once, leaving nothing
+  // half-written.
   register_solve(app, ctx);
   register_experiment(app, ctx);
   register_simulate(app, ctx);

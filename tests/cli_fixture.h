@@ -50,6 +50,18 @@ class Cli : public ::testing::Test {
     return r;
   }
 
+  /// `hrad ARGS` fails within the test's time (a FIFO nobody writes would block a reader
+  /// for ever: `timeout` turns that into status 124), says `what`, and leaves the folder
+  /// as it was.
+  void refused(const std::string& args, const std::string& what) const {
+    const int before = entries();
+    const Result r = hrad(args, "timeout 20 ");
+    EXPECT_NE(r.status, 124) << args << ": blocked";
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_TRUE(contains(r.err, what)) << args << ": " << r.err;
+    EXPECT_EQ(entries(), before) << args;
+  }
+
   /// Files and folders in the temporary folder (0 when a failed run created nothing).
   [[nodiscard]] int entries() const {
     int n = 0;

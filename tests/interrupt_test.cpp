@@ -120,7 +120,7 @@ TEST(Interrupt, ProbesAndRenderingStop) {
   o.iterations = 1;
   Solver s(scene, o);
   (void)s.run();
-  std::vector<Probe> probes(1000, Probe{Vec3(278, 1, 280), Vec3(0, 1, 0)});
+  std::vector<Probe> probes(1000, Probe{Vec3(2.78, 0.01, 2.8), Vec3(0, 1, 0)});
   std::vector<std::string> lines;
   const auto seen =
       s.probe_irradiance(std::span<const Probe>(probes.data(), 10),
@@ -132,8 +132,8 @@ TEST(Interrupt, ProbesAndRenderingStop) {
   simulate_interrupt(SIGINT);
   EXPECT_THROW((void)s.probe_irradiance(probes), Interrupted);
   Camera cam;
-  cam.eye = Vec3(278, 273, -800);
-  cam.target = Vec3(278, 273, 0);
+  cam.eye = Vec3(2.78, 2.73, -8);
+  cam.target = Vec3(2.78, 2.73, 0);
   EXPECT_THROW((void)render_radiance(mesh, cam, 64, 48), Interrupted);
 }
 

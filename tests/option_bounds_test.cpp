@@ -14,18 +14,8 @@ namespace {
 using hrad::test::contains;
 using hrad::test::Result;
 
-class OptionBounds : public hrad::test::Cli {
- protected:
-  /// `hrad ARGS` fails with status 1 or 2 (CLI11's usage errors), names `what`, and
-  /// leaves the folder as it was.
-  void refused(const std::string& args, const std::string& what) const {
-    const int before = entries();
-    const Result r = hrad(args);
-    EXPECT_NE(r.status, 0) << args;
-    EXPECT_TRUE(contains(r.err, what)) << args << ": " << r.err;
-    EXPECT_EQ(entries(), before) << args;
-  }
-};
+// Refusals (Cli::refused) exit with status 1, or 2 for CLI11's usage errors.
+using OptionBounds = hrad::test::Cli;
 
 TEST_F(OptionBounds, ThreadCountsAreBoundedEverywhere) {
   refused("solve builtin:cornell --threads 100000 --out run", "threads = 100000 is out of range");

@@ -10,6 +10,7 @@
 #include <bit>
 #include <fstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace hrad {
 
@@ -25,6 +26,15 @@ void write_trace(const std::filesystem::path& path, const std::string& header_js
   });
 }
 
+namespace {
+
+// Whether a file's first line (or its start) is a trace's header.
+bool is_trace_header(std::string_view first_line) {
+  return first_line.find("\"hrad-trace\"") != std::string_view::npos;
+}
+
+}  // namespace
+
 void check_trace_target(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return;
@@ -34,8 +44,7 @@ void check_trace_target(const std::filesystem::path& path) {
   std::string header(1 << 16, '\0');  // the header line, or its start
   in.read(header.data(), static_cast<std::streamsize>(header.size()));
   header.resize(static_cast<std::size_t>(in.gcount()));
-  header = header.substr(0, header.find('\n'));
-  if (header.find("\"hrad-trace\"") == std::string::npos)
+  if (!is_trace_header(std::string_view(header).substr(0, header.find('\n'))))
     throw InputError(path.string(), 0,
                      "trace: the file exists and is not an hrad trace: not overwritten (give a "
                      "new file's name)");
@@ -47,7 +56,7 @@ std::vector<TraceRecord> read_trace(const std::filesystem::path& path, std::stri
   if (!in) throw std::runtime_error(path.string() + ": cannot open trace");
   std::string header;
   std::getline(in, header);
-  if (header.find("\"hrad-trace\"") == std::string::npos)
+  if (!is_trace_header(header))
     throw std::runtime_error(path.string() + ": not an hrad trace (bad header)");
   const auto body_start = in.tellg();
   in.seekg(0, std::ios::end);

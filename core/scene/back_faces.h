@@ -11,7 +11,9 @@
 //   one   no back faces: every face one-sided, as RenderPark reads MGF;
 //   two   a back face for every face, whatever its material.
 // A face whose reversed copy is already in the scene (a sheet modelled from both sides)
-// gets none.
+// gets none. The back face keeps the front's first vertex and reverses the rest, so
+// that a quad is split along the same diagonal by the ray tracer (exactly the same
+// triangles: no crack between the two sides).
 //
 // The `emitter_sides` option chooses whether a back face emits:
 //   front  the back face of an emitter reflects but does not emit (it gets a copy of
@@ -21,9 +23,7 @@
 //          whose polygons shine from the front only; a luminaire strip modelled as
 //          one polygon lights the room below it, not the ceiling above.
 //   both   the back face emits like the front: MGF `sides 2` taken literally (twice
-//          the emitted power of each two-sided emitter). The back face keeps the front's first vertex and reverses the rest, so
-// that a quad is split along the same diagonal by the ray tracer (exactly the same
-// triangles: no crack between the two sides).
+//          the emitted power of each two-sided emitter).
 #pragma once
 
 #include "core/base/enum_names.h"

@@ -123,16 +123,15 @@ CameraSpec parse_camera_spec(std::string_view text) {
 CameraSpec read_view_file(const std::filesystem::path& path) {
   const std::string file = path.string();
   check_input_file(path, "the view file");
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(file, 0, "cannot open the view file");
+  std::ostringstream whole;
+  whole << in.rdbuf();
+  std::istringstream text(checked_text(std::move(whole).str(), file));
   CameraSpec s;
   int eye_line = 0, look_line = 0, up_line = 0, fov_line = 0;
   std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    if (number == 1) line = without_bom(std::move(line));
-    if (const auto nul = line.find('\0'); nul != std::string::npos)
-      throw InputError(file, number,
-                       fmt::format("a NUL byte at column {}: this is not a text file", nul + 1));
+  for (int number = 1; std::getline(text, line); ++number) {
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     std::istringstream words(line);
     std::string keyword;

@@ -70,9 +70,9 @@ struct Scene {
   }
   [[nodiscard]] Aabb bounds() const;
   /// Where the bulk of the area lies: per axis, the quantiles (1 - share) / 2 and
-  /// (1 + share) / 2 of the faces' corners, each weighted by its face's area / corners. Far smaller than
-  /// bounds() when a little geometry lies far away (a small triangle 30,000 units from a
-  /// room), which the tolerances relative to bounds() do not suit.
+  /// (1 + share) / 2 of the faces' corners, each weighted by its face's area / corners.
+  /// Far smaller than bounds() when a little geometry lies far away (a small triangle
+  /// 30,000 units from a room), which the tolerances relative to bounds() do not suit.
   [[nodiscard]] Aabb bulk_bounds(double share = 0.98) const;
   [[nodiscard]] double total_area() const;
   [[nodiscard]] std::size_t emitter_count() const;

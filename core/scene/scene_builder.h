@@ -80,7 +80,6 @@ class SceneBuilder {
   std::uint32_t polygons_ = 0;         ///< input polygons kept so far
   std::vector<std::uint32_t> source_;  ///< per face, its input polygon (coplanar test)
   std::string first_self_overlap_;     ///< "file:line: what", of the first one dropped
-  std::size_t polygons_seen_ = 0;      ///< for polling interrupts
   /// Each polygon's vertex positions, rotated to start at the smallest (x, y, z), in
   /// its own cyclic order: the key of the duplicate test.
   std::unordered_set<std::vector<double>, PositionsHash> seen_;
