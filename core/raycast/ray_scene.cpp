@@ -326,6 +326,48 @@ const Vec3& RayScene::normal(std::uint32_t poly) const { return impl_->normal.at
 
 bool RayScene::lies_against(std::uint32_t poly) const { return impl_->contact.at(poly) != 0; }
 
+namespace {
+
+// rtcPointQuery's state: the visitor, and whether it asked to stop.
+struct NearQuery {
+  const std::uint32_t* tri_poly;
+  const std::uint32_t* quad_poly;
+  unsigned quad_geom;
+  const std::function<bool(std::uint32_t)>* visit;
+  bool stopped = false;
+};
+
+bool near_callback(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<NearQuery*>(args->userPtr);
+  if (q->stopped) return false;
+  const std::uint32_t poly =
+      args->geomID == q->quad_geom ? q->quad_poly[args->primID] : q->tri_poly[args->primID];
+  if ((*q->visit)(poly)) return false;
+  q->stopped = true;
+  args->query->radius = 0;  // the rest of the traversal keeps to the centre
+  return true;
+}
+
+}  // namespace
+
+void RayScene::for_each_polygon_near(const Vec3& centre, double radius,
+                                     const std::function<bool(std::uint32_t)>& visit) const {
+  const Impl& m = *impl_;
+  if (m.polygons == 0) return;
+  const Vec3 c = (centre - m.centre) * m.inv_scale;
+  RTCPointQuery query;
+  query.x = static_cast<float>(c.x());
+  query.y = static_cast<float>(c.y());
+  query.z = static_cast<float>(c.z());
+  // (Up a little: float rounding must not lose a polygon at the sphere's edge.)
+  query.radius = to_float_distance(radius * m.inv_scale * (1 + 1e-5) + 1e-6);
+  query.time = 0;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  NearQuery q{m.tri_poly.data(), m.quad_poly.data(), m.quad_geom, &visit};
+  rtcPointQuery(m.scene, &query, &context, &near_callback, &q);
+}
+
 std::uint64_t RayScene::rays_cast() const {
   std::uint64_t n = 0;
   for (const auto& s : impl_->counters) n += s.rays.load(std::memory_order_relaxed);

@@ -16,6 +16,7 @@
 #include "core/base/geometry.h"
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -127,6 +128,11 @@ class RayScene {
   /// The reach of lies_against(), relative to scale(): four times the reach of the open
   /// fractions' contact tests (core/transport/open_fraction.cpp).
   static constexpr double kContactReach = 16 * kEndpointEpsilon;
+  /// Calls visit(polygon) for every polygon whose bounds may reach the sphere of `radius`
+  /// around `centre` (a superset: bounding boxes are compared), until it returns false;
+  /// a polygon of more than four corners may come once per fan triangle. Thread-safe.
+  void for_each_polygon_near(const Vec3& centre, double radius,
+                             const std::function<bool(std::uint32_t)>& visit) const;
 
   /// Rays cast so far by occluded() and intersect() together (segments too short to
   /// test are not counted). Counted in per-thread-striped relaxed atomics, so the

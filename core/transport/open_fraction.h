@@ -20,7 +20,13 @@
 //
 // A leaf's w is estimated once, by rays: kOpenPoints stratified points on the leaf,
 // kOpenRays cosine-distributed rays from each, and a point counts as closed in when
-// most of its rays first hit a back face. A ray that escapes, or hits a front face,
+// most of its rays first hit a back face. A leaf that no other polygon crosses or
+// touches inside (core/raycast/face_crossings.h) cannot be partly closed in: moving
+// along it never enters or leaves a solid. Its w is 1 (or 0) when kQuickPoints points,
+// one per quarter, two rays each, all find it open (or all closed in); only when they
+// disagree (geometry that is not watertight) does it get the full estimate. That
+// decides about 80 % of the lab's leaves with 8 rays instead of about 50: 0.75 M rays
+// instead of 1.89 M, about 0.3 s instead of 0.52 s on one thread. A ray that escapes, or hits a front face,
 // finds the point open; so open-ended geometry seen from outside (the inside of a
 // tube) does not close a point in. A surface coincident with the point's own face
 // (the two faces of a contact) is skipped by the ray's end-point exclusion, which is
@@ -54,6 +60,8 @@ inline constexpr double kMinOpenFraction = 0.25;
 /// Points per leaf and rays per point of the estimate.
 inline constexpr int kOpenPoints = 16;
 inline constexpr int kOpenRays = 3;
+/// Points of the estimate on a polygon that nothing crosses (estimate_open_fraction).
+inline constexpr int kQuickPoints = 4;
 
 struct OpenStats {
   std::uint64_t rays_cast = 0;
@@ -70,8 +78,13 @@ OpenStats update_open_fractions(const std::vector<Element*>& elements, const Hie
 
 /// The estimate for one surface element, in [0, 1]; adds the rays it cast to
 /// `rays_cast` when given (a contact ray per point, then up to kOpenRays per point and
-/// one more for every front hit, which is checked for a coincident back face).
+/// one more for every front hit, which is checked for a coincident back face). With
+/// `shortcut` (the default), an element that no other polygon crosses
+/// (core/raycast/face_crossings.h) is decided from kQuickPoints points when they agree
+/// (see the file's comment); without, every element gets the full estimate (tests
+/// compare the two).
 double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, const RayScene& rays,
-                              std::uint64_t seed, std::uint64_t* rays_cast = nullptr);
+                              std::uint64_t seed, std::uint64_t* rays_cast = nullptr,
+                              bool shortcut = true);
 
 }  // namespace hrad
