@@ -182,31 +182,35 @@ void pull_one(Element& e, const Relaxation& relax) {
   }
 }
 
-// Gathers at one element: its own links' value(link) summed into `gathered`, or, for a
-// cluster in Cosine mode, split along the axes into `light->arriving`.
-template <class Value>
-void gather_one(Element& e, bool cosine, const Value& value, bool open_area = true) {
+// Gathers at one element the transport of its own links, in `gathered` (or, for a
+// cluster in Cosine mode, split along the axes into `light->arriving`): in channel 0 per
+// unit of area, in channels 1 and 2 per unit of open area (core/transport/open_fraction.h),
+// so that one pass gives the row sums both ways (core/solver/row_sums.h).
+void gather_transport(Element& e, bool cosine) {
   if (cosine && e.is_cluster()) {
     // Undo the link's mean cosine and split the irradiance a unit surface facing the
-    // source would get along the axes. The mean cosine is over the members' open area
-    // (or their whole area, without open_area), so the members' open parts receive in
-    // total what the link delivers to the cluster.
+    // source would get along the axes. The mean cosine is over the members' area, or
+    // their open area, so the members (their open parts) receive in total what the link
+    // delivers to the cluster.
     std::array<Rgb, 6>& dir = e.light->arriving;
     dir.fill(Rgb::Zero());
     for (const Link& l : e.links) {
       const Vec3 d = (l.source->center - e.center).normalized();
-      const double projected = open_area ? e.light->projected_open_area(d) : e.projected_area(d);
-      if (!(projected > 0)) continue;
-      const Rgb facing = value(l) * (e.area / projected);
+      const double whole = e.projected_area(d), open = e.light->projected_open_area(d);
+      const double t = l.transport();
+      const double per_whole = whole > 0 ? t * (e.area / whole) : 0.0;
+      const double per_open = open > 0 ? t * (e.area / open) : 0.0;
+      const Rgb facing(per_whole, per_open, per_open);
       for (int a = 0; a < 3; ++a)
         dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
     }
     e.gathered = Rgb::Zero();
     return;
   }
-  Rgb g = Rgb::Zero();
-  for (const Link& l : e.links) g += value(l);
-  e.gathered = (open_area ? open_gain(e) : 1.0) * g;
+  double g = 0;
+  for (const Link& l : e.links) g += l.transport();
+  const double open = open_gain(e) * g;
+  e.gathered = Rgb(g, open, open);
 }
 
 struct alignas(64) SweepChange {
@@ -656,13 +660,12 @@ double relative(const SweepChange& c) { return c.largest > 0 ? c.change / c.larg
 
 }  // namespace
 
-void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
-                     const std::function<Rgb(const Link&)>& value, bool open_area) {
+void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode, int threads) {
   const bool cosine = mode == ClusterReceiver::Cosine;
   const Partition p = partition(elements, threads);
   prepare_clusters(p);
   std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts) + 1);
-  const auto gather = [&](Element& e) { gather_one(e, cosine, value, open_area); };
+  const auto gather = [&](Element& e) { gather_transport(e, cosine); };
   const auto none = [](const Element&) {};
   in_team(p.parts, [&](int me, int team, TeamBarrier& barrier) {
     if (me == 0) top_down(p, cosine, gather);

@@ -62,14 +62,12 @@ inline constexpr double kMaxContraction = 0.995;
 // ClusterReceiver (how a cluster receiver hands what it gathers to its members) is an
 // option: core/config/modes.h.
 
-/// Gather + push: sets `next` of every element to the total irradiance H it
-/// receives from its own and its ancestors' links, each link contributing
-/// value(link) (per unit of transport: transport() x B_source for radiosity,
-/// transport() for row sums). `elements` lists parents before children. With
-/// `open_area` (as the propagation does) the result is per unit of open area
-/// (core/transport/open_fraction.h); without, per unit of area.
-void gather_and_push(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
-                     const std::function<Rgb(const Link&)>& value, bool open_area = true);
+/// Gather + push of the links' transport (the row sums, core/solver/row_sums.h): sets
+/// `next` of every element to the total transport it receives from its own and its
+/// ancestors' links, pushed as the propagation pushes irradiance: in channel 0 per unit
+/// of area, in channels 1 and 2 per unit of open area, as the propagation gathers
+/// (core/transport/open_fraction.h). `elements` lists parents before children.
+void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode, int threads);
 
 /// `elements` must list parents before children and hold every element a link refers
 /// to (Hierarchy::elements()).

@@ -3,7 +3,6 @@
 #include "core/base/hash.h"
 #include "core/base/interrupt.h"
 #include "core/hierarchy/hierarchy.h"
-#include "core/parallel/parallel_any.h"
 #include "core/raycast/ray_scene.h"
 #include "core/solver/propagation.h"
 #include "core/transport/open_fraction.h"
@@ -57,34 +56,24 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
                            ClusterReceiver receiver, const Hierarchy& hierarchy,
                            const RayScene& rays, int escape_rays, std::uint64_t seed, int threads) {
   RowSumStats st;
-  // Push the transport totals down like irradiance from a unit radiosity: `next` is
-  // scratch here (propagation overwrites it).
-  const auto unit = [](const Link& l) -> Rgb { return Rgb::Constant(l.transport()); };
-  // First per unit of area, as the links give it, then per unit of open area, as the
-  // propagation gathers (core/transport/open_fraction.h); the same when nothing is closed in.
-  const bool closed_in =
-      parallel_any(elements, threads, [](const Element* e) { return e->open >= 0 && e->open < 1; });
-  const auto count = static_cast<std::ptrdiff_t>(elements.size());
-  gather_and_push(elements, receiver, threads, unit, false);
-  std::vector<double> plain(elements.size());
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (std::ptrdiff_t i = 0; i < count; ++i)
-    plain[static_cast<std::size_t>(i)] = elements[static_cast<std::size_t>(i)]->next[0];
-  if (closed_in) gather_and_push(elements, receiver, threads, unit, true);
+  // Push the transport totals down like irradiance from a unit radiosity, per unit of
+  // area as the links give it (channel 0) and per unit of open area as the propagation
+  // gathers (channel 1; the same when nothing is closed in). `next` is scratch here
+  // (propagation overwrites it).
+  push_transport(elements, receiver, threads);
   std::vector<Element*> leaves;
   double area = 0;
   st.min = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    Element* e = elements[i];
+  for (Element* e : elements) {
     e->gather_scale = 1;
     if (e->is_cluster() || !e->child_span().empty()) continue;
     leaves.push_back(e);
-    const double s = e->next[0];
+    const double s = e->next[1];
     // The open-area gain must not lift a leaf far above a whole hemisphere (or above
     // what its links give without it, if that is more already): where an estimated
     // open fraction is lower than its links' visibility says (two contacts that
     // coincide with both ends of a segment let it pass through a solid), it would.
-    const double cap = kOpenGainCap * std::max(1.0, plain[i]);
+    const double cap = kOpenGainCap * std::max(1.0, e->next[0]);
     if (s > cap) {
       e->gather_scale = static_cast<float>(cap / s);
       ++st.open_capped;
@@ -113,7 +102,7 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (interrupted()) continue;
     Element& e = *leaves[static_cast<std::size_t>(i)];
-    const double s = static_cast<double>(e.gather_scale) * e.next[0];
+    const double s = static_cast<double>(e.gather_scale) * e.next[1];
     double target = 1;
     if (mode == RowSumMode::Normalize) {
       if (e.escape < 0) {
