@@ -418,11 +418,22 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
 
   // --eps 1e-30 refined until memory ran out: refinement stops at max_memory_gb (by
   // default 3/4 of the machine's memory) with an error, and writes nothing.
-  r = hrad("solve builtin:office --set max_memory_gb=0.005 --out mem");
+  // (A small image: the render's memory counts against the limit too.)
+  r = hrad("solve builtin:office --set max_memory_gb=0.005 --set image_width=64 --out mem");
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "refinement stopped when its elements and links reached")) << r.err;
   EXPECT_TRUE(contains(r.err, "above the limit of 0.005 GB")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "mem"));
+
+  // image_width at its maximum took 11.8 GB while rendering, after the whole solve: now
+  // refused before the scene is loaded when it would not fit under max_memory_gb.
+  r = hrad("solve builtin:cornell --set image_width=16384 --set max_memory_gb=2 --out big");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err,
+                       "image_width 16384: rendering 16384 x 12288 pixels needs about "
+                       "12.1 GB, above the limit of 2 GB"))
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "big"));
 
   // A misspelt plot was reported only after every run had finished.
   write("pl.json", R"({"name": "p", "scenes": ["builtin:cornell"], "plot": "speedupp"})");

@@ -87,6 +87,30 @@ TEST(SceneBuilder, TriangulatesALargeCombExactly) {
   EXPECT_NEAR(s.total_area(), polygon_area(comb), 1e-6);
 }
 
+// A comb of 20,000 teeth 500 long (80,002 corners): the ears that span its base are
+// long slanted triangles whose boxes cover nearly every reflex corner without holding
+// one. A grid of the corners, and a k-d tree asked for the box, tested each of those
+// corners for each such ear (a comb of 200,002 corners took minutes); the tree asked
+// for the triangle visits only nodes near its edges.
+TEST(SceneBuilder, TriangulatesACombWithLongTeethExactly) {
+  constexpr int kTeeth = 20000;
+  constexpr double kLong = 500;
+  std::vector<Vec3> comb = {{0, 0, 0}, {2.0 * kTeeth, 0, 0}};
+  for (int t = kTeeth - 1; t >= 0; --t) {
+    const double x = 2.0 * t;
+    comb.insert(
+        comb.end(),
+        {{x + 1.5, 1, 0}, {x + 1.5, 1 + kLong, 0}, {x + 0.5, 1 + kLong, 0}, {x + 0.5, 1, 0}});
+  }
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  b.add_polygon(comb, m, kHere);
+  const Scene s = b.finish("test.obj");
+  EXPECT_EQ(s.faces.size(), comb.size() - 2);
+  EXPECT_NEAR(s.total_area(), polygon_area(comb), 1e-6 * polygon_area(comb));
+  EXPECT_NEAR(s.total_area(), (2.0 * kTeeth - 0.5) + kLong * kTeeth, 1e-3);
+}
+
 TEST(SceneBuilder, TriangulatesPolygonWithSeamHole) {
   SceneBuilder b("t", "t");
   const auto m = b.add_material(grey(0.5, 1), kHere);

@@ -53,15 +53,6 @@ constexpr double kIntermediateTolerance = 1e-3;
 // warn_about_scene: a bounding box more than this many times the bulk of the area.
 constexpr double kBulkRatioWarning = 100;
 
-/// max_memory_gb in bytes; 0 gives three quarters of the physical memory (sysconf), and
-/// no limit where that cannot be read.
-std::uint64_t memory_limit_bytes(double gb) {
-  if (gb > 0) return static_cast<std::uint64_t>(gb * 1e9);
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0) return 0;
-  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 4 * 3;
-}
-
 /// Leaf surface elements (those without children), depth first: the solution's
 /// finest mesh.
 std::vector<const Element*> leaf_surfaces(const Element& root) {
@@ -212,6 +203,13 @@ struct Solver::Impl {
     return refine_progress(it) + 0.8 / options.iterations;
   }
 };
+
+std::uint64_t memory_limit_bytes(double gb) {
+  if (gb > 0) return static_cast<std::uint64_t>(gb * 1e9);
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return 0;
+  return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 4 * 3;
+}
 
 Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress) {
   validate_options(options);

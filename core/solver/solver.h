@@ -11,6 +11,7 @@
 #include "core/scene/render_mesh.h"
 #include "core/scene/scene.h"
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
@@ -23,6 +24,10 @@ namespace hrad {
 using ProgressFn = std::function<void(const std::string& phase, double fraction)>;
 
 class RayScene;
+
+/// max_memory_gb in bytes; 0 gives three quarters of the physical memory (sysconf), and
+/// no limit (0) where that cannot be read.
+std::uint64_t memory_limit_bytes(double gb);
 
 class Solver {
  public:
