@@ -84,22 +84,23 @@ struct RunFolder {
 nlohmann::json probe_report(const ProbeTable& a, const ProbeTable& b, double floor, bool rows) {
   const ProbeComparison c = compare_probes(a, b, floor);
   fmt::print("Probes: {} ({} against reference {})\n", c.probes.size(), a.file, b.file);
-  fmt::print("  relative error |a - r| / max(|r|, {:.4g}), largest channel:\n", c.floor);
-  fmt::print("    median {:.4g}   mean {:.4g}   rms {:.4g}   max {:.4g} (probe {})\n", c.median,
-             c.mean, c.rms, c.max, c.worst);
-  fmt::print("  signed error of the channel mean: mean (bias) {:+.4g}, {} of {} probes low\n",
-             c.bias, c.low, c.probes.size());
+  // Printed in percent (the JSON keeps fractions).
+  fmt::print("  relative error |a - r| / max(|r|, {:.4g}), largest channel, in %:\n", c.floor);
+  fmt::print("    median {:.3g} %   mean {:.3g} %   rms {:.3g} %   max {:.3g} % (probe {})\n",
+             100 * c.median, 100 * c.mean, 100 * c.rms, 100 * c.max, c.worst);
+  fmt::print("  signed error of the channel mean: mean (bias) {:+.3g} %, {} of {} probes low\n",
+             100 * c.bias, c.low, c.probes.size());
   if (c.has_se)
     fmt::print("  within 2 standard errors of the reference: {} of {}\n", c.within_2se,
                c.probes.size());
   if (rows) {
     // E is the mean of the three channels; rel.err is the largest channel's, as above.
     fmt::print("  {:>5} {:>13} {:>13} {:>11}{}\n", "probe", "E mean (res)", "E mean (ref)",
-               "rel.err max", c.has_se ? "     |d|/SE" : "");
+               "rel.err %", c.has_se ? "     |d|/SE" : "");
     for (std::size_t i = 0; i < c.probes.size(); ++i) {
       const ProbeError& e = c.probes[i];
       fmt::print("  {:>5} {:>13.5g} {:>13.5g} {:>11.3g}", i, e.result.mean(), e.reference.mean(),
-                 e.rel_error);
+                 100 * e.rel_error);
       if (c.has_se) fmt::print(" {:>10.3g}", e.z);
       fmt::print("\n");
     }
@@ -129,12 +130,12 @@ nlohmann::json surface_report(const fs::path& a, const fs::path& b, std::size_t 
       "Surfaces: {} ({} polygons) against reference {} ({} polygons), {} points, {} "
       "unmatched\n",
       a.string(), ma.polys.size(), b.string(), mb.polys.size(), s.samples, s.unmatched);
-  fmt::print("  radiosity relative to the reference's area-weighted mean:\n");
+  fmt::print("  radiosity error relative to the reference's area-weighted mean, in %:\n");
   fmt::print("  {:>8} {:>10} {:>10} {:>10} {:>10}\n", "", "r", "g", "b", "all");
-  fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", "L1", s.l1[0], s.l1[1], s.l1[2],
-             s.l1_all);
-  fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", "L2", s.l2[0], s.l2[1], s.l2[2],
-             s.l2_all);
+  fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", "L1", 100 * s.l1[0],
+             100 * s.l1[1], 100 * s.l1[2], 100 * s.l1_all);
+  fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g} {:>10.4g}\n", "L2", 100 * s.l2[0],
+             100 * s.l2[1], 100 * s.l2[2], 100 * s.l2_all);
   fmt::print("  {:>8} {:>10.4g} {:>10.4g} {:>10.4g}\n", "mean ref", s.reference_mean[0],
              s.reference_mean[1], s.reference_mean[2]);
   return {{"result", a.string()},

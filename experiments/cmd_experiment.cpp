@@ -224,7 +224,7 @@ void register_experiment(CLI::App& app, CommandContext& ctx) {
                   "repeatable")
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false);
-  sub->add_option("--out", args->out,
+  sub->add_option("-o,--out", args->out,
                   "Result folder [default: results/<name>/<YYYYmmdd-HHMMSS>[-quick]/]; an "
                   "existing result folder of the same configuration is resumed")
       ->type_name("DIR");

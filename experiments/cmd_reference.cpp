@@ -220,7 +220,7 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
           ->type_name("N")
           ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
   probes->excludes(random);
-  sub->add_option("--out", args->out, "Output folder, created if missing, files in it replaced")
+  sub->add_option("-o,--out", args->out, "Output folder, created if missing, files in it replaced")
       ->type_name("DIR")
       ->required();
   sub->add_option("--rel-error", args->options.rel_error,
@@ -243,7 +243,7 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
       ->check(CLI::Range(1, 1 << 20));
   sub->add_option("--seed", args->options.seed, "Mixed into every random number [default: 1]")
       ->type_name("N");
-  sub->add_option("--threads", args->options.threads,
+  sub->add_option("-t,--threads", args->options.threads,
                   "OpenMP threads; results do not depend on it [default: 1]")
       ->type_name("N")
       ->check(CLI::Range(1, kMaxThreads));

@@ -491,7 +491,7 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                   "outside_serial_share");
   sub->add_option("--measured", args->measured,
                   "stats.json of a real run to compare with (repeatable)");
-  sub->add_option("--out", args->out, "write the rows as CSV");
+  sub->add_option("-o,--out", args->out, "write the rows as CSV");
   sub->add_flag("--quiet", args->quiet, "no progress line");
   sub->add_option("--calibrate-locks", args->calibrate_locks,
                   fmt::format("measure the hand-off costs of a lock ({}) at 2 .. --lock-threads "

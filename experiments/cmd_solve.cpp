@@ -58,11 +58,12 @@ struct OptionFlag {
   const char* flag;
   const char* key;
   const char* value_name;
+  const char* short_flag = nullptr;  ///< e.g. "-t", or none
 };
 constexpr OptionFlag kOptionFlags[] = {
     {"--scheduler", "scheduler", "NAME"},
     {"--block-size", "block_size", "N"},
-    {"--threads", "threads", "N"},
+    {"--threads", "threads", "N", "-t"},
     {"--oracle", "oracle", "NAME"},
     {"--eps", "eps", "X"},
     {"--min-area", "min_area", "X"},
@@ -102,7 +103,12 @@ SolverOptions resolve_options(const SolveArgs& a, std::string& camera_from) {
     if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the config file", a.config));
     std::stringstream text;
     text << in.rdbuf();
-    const auto j = parse_json_document<nlohmann::json>(text.str(), a.config, /*comments=*/true);
+    const auto doc = parse_json_document<nlohmann::json>(text.str(), a.config, /*comments=*/true);
+    // A solve's stats.json holds its complete configuration under "config": the run
+    // again, with these flags on top.
+    const bool stats = doc.is_object() && doc.contains("totals") && doc.contains("config") &&
+                       doc["config"].is_object();
+    const nlohmann::json& j = stats ? doc["config"] : doc;
     apply_options_json(o, j, a.config);
     if (j.contains("camera")) camera_from = "config";
   }
@@ -453,7 +459,9 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
                     static_cast<char>(std::toupper(static_cast<unsigned char>(info->help[0]))),
                     info->help.substr(1), f.key, option_value_string(defaults, f.key));
     args->flag_options[f.key] =
-        sub->add_option(f.flag, args->flag_values[f.key], help)->type_name(f.value_name);
+        sub->add_option(f.short_flag ? fmt::format("{},{}", f.short_flag, f.flag) : f.flag,
+                        args->flag_values[f.key], help)
+            ->type_name(f.value_name);
   }
   sub->add_option("--probes", args->probes,
                   "Irradiance probes: a text file with one 'x y z nx ny nz' per line (scene "
@@ -468,7 +476,7 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
                   "little-endian Portable Float Map (.pfm; missing folders are created) "
                   "[default: none]")
       ->type_name("FILE");
-  sub->add_option("--out", args->out,
+  sub->add_option("-o,--out", args->out,
                   "Output folder, created if missing, files in it replaced [default: "
                   "results/<scene>-<YYYYmmdd-HHMMSS>/ in the current directory]")
       ->type_name("DIR");
@@ -484,8 +492,9 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
                   "optional 'up X Y Z' and 'fov DEG', # comments (see docs/cli.md)")
       ->type_name("FILE");
   sub->add_option("--config", args->config,
-                  "JSON file of option keys (see docs/configuration.md); explicit flags and "
-                  "--set override it [default: none]")
+                  "JSON file of option keys (see docs/configuration.md), or an earlier run's "
+                  "stats.json (its \"config\"); explicit flags and --set override it "
+                  "[default: none]")
       ->type_name("FILE");
   sub->add_option("--set", args->sets,
                   fmt::format("Set any option key, after --config and the flags; repeatable; "

@@ -45,7 +45,7 @@ void register_topology(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--pin", args->pin,
                   "also print where `hrad solve --pin POLICY` would bind each refiner")
       ->check(CLI::IsMember({"none", "compact", "scatter", "node-round-robin"}));
-  sub->add_option("--threads", args->threads, "refiners for --pin (default: one per PU)")
+  sub->add_option("-t,--threads", args->threads, "refiners for --pin (default: one per PU)")
       ->check(CLI::Range(1, kMaxThreads));
   sub->callback([&ctx, args] {
     try {

@@ -1,8 +1,11 @@
 // hrad: the command-line front end. Subcommands live in cmd_*.cpp (see commands.h).
 #include "experiments/commands.h"
 
+#include "core/config/options_io.h"
+
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
@@ -69,6 +72,27 @@ bool make_output_folder(const std::filesystem::path& out, bool& created) {
   return true;
 }
 
+// A command-line error in hrad's words: which command, CLI11's message, and a hint
+// where a flag names a configuration key that has no flag of its own.
+std::string parse_error_text(const std::string& what, const std::vector<std::string>& argv) {
+  const std::string command = argv.size() > 1 && argv[1][0] != '-' ? argv[1] : "";
+  std::string text = fmt::format("{}{}", command.empty() ? "" : command + ": ", what);
+  for (std::size_t i = 2; i < argv.size(); ++i) {
+    const std::string& word = argv[i];
+    if (word.rfind("--", 0) != 0) continue;
+    std::string key = word.substr(
+        2, word.find('=') == std::string::npos ? std::string::npos : word.find('=') - 2);
+    std::replace(key.begin(), key.end(), '-', '_');
+    if ((command == "solve" || command == "experiment") && find_option(key) != nullptr &&
+        what.find(word.substr(0, word.find('='))) != std::string::npos)
+      text += fmt::format(
+          " ({} is a configuration key without a flag of its own: use --set "
+          "{}=VALUE)",
+          key, key);
+  }
+  return text + fmt::format(" (see hrad {}--help)", command.empty() ? "" : command + " ");
+}
+
 }  // namespace hrad::cli
 
 int main(int argc, char** argv) {
@@ -108,10 +132,16 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
+  if (argc == 1) {  // (CLI11 would say "A subcommand is required")
+    fmt::print("{}", app.help());
+    return 1;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    print_error(parse_error_text(e.what(), ctx.argv));
+    return e.get_exit_code();
   }
   return ctx.status;
 }

@@ -75,6 +75,39 @@ TEST_F(Cli, UnknownOptionIsNamedAndFails) {
   EXPECT_NE(hrad("frobnicate").status, 0);
 }
 
+// The traps of a first hour at the command line: bare `hrad` (CLI11 said "A subcommand
+// is required"), -o and -t (its raw "The following arguments were not expected: out
+// -o"), a configuration key given as a flag, a built-in scene's name without
+// `builtin:`, and a stats.json as --config.
+TEST_F(Cli, FirstHourTraps) {
+  Result r = hrad("");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.out, "Subcommands:") && contains(r.out, "solve")) << r.out;
+
+  r = hrad("solve builtin:cornell --max-memory-gb 4");
+  EXPECT_NE(r.status, 0);
+  EXPECT_TRUE(contains(r.err, "hrad: solve: ")) << r.err;
+  EXPECT_TRUE(contains(r.err, "use --set max_memory_gb=VALUE")) << r.err;
+  EXPECT_TRUE(contains(r.err, "(see hrad solve --help)")) << r.err;
+
+  r = hrad("solve cornell");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "did you mean builtin:cornell?")) << r.err;
+  r = hrad("solve office.obj");
+  EXPECT_TRUE(contains(r.err, "the file does not exist (did you mean builtin:office?)")) << r.err;
+  EXPECT_EQ(entries(), 0);
+
+  r = hrad("solve builtin:cornell -t 2 -o first --set eps=1e-3 --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto first = nlohmann::json::parse(read_text(dir_ / "first" / "stats.json"));
+  EXPECT_EQ(first["config"]["threads"], 2);
+  // The run's stats.json as the configuration of the next: the same settings.
+  r = hrad("solve builtin:cornell --config first/stats.json -o again --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto again = nlohmann::json::parse(read_text(dir_ / "again" / "stats.json"));
+  EXPECT_EQ(again["config"], first["config"]);
+}
+
 TEST_F(Cli, MissingSceneFileNamesItAndCreatesNoFolder) {
   Result r = hrad("solve no_such_scene.obj --out run");
   EXPECT_EQ(r.status, 1);
