@@ -225,12 +225,20 @@ void print_summary(const SolveArgs& a, const Scene& scene, const SolverOptions& 
   fmt::print(
       "Solved {} ({} polygons, {} emitting) with {} iteration{} of scheduler '{}', oracle '{}' "
       "on {} thread{}: {} links, {} elements, {} rays cast ({} visibility queries answered "
-      "without rays); {:.3g} s wall, refinement {:.3g} s wall / {:.3g} s CPU. Results in {}: "
-      "{}.\n",
+      "without rays); {:.3g} s wall: refinement {:.3g} s wall / {:.3g} s CPU, propagation "
+      "{:.3g} s. Results in {}: {}.\n",
       a.scene, scene.polygon_count(), scene.emitter_count(), st.iterations.size(),
       st.iterations.size() == 1 ? "" : "s", o.scheduler, o.oracle, o.threads,
       o.threads == 1 ? "" : "s", t.links, t.elements, t.rays_cast, t.rays_skipped, t.wall_s,
-      t.refine_wall_s, t.refine_cpu_s, out.string(), listed);
+      t.refine_wall_s, t.refine_cpu_s, t.propagate_wall_s, out.string(), listed);
+}
+
+// The configuration as stats.json records it: the options, with the trace as given (a
+// relative one is inside the output folder), so that --config stats.json repeats it.
+nlohmann::json config_json(const SolverOptions& o, const std::string& trace_given) {
+  nlohmann::json j = options_to_json(o);
+  j["trace"] = trace_given;
+  return j;
 }
 
 // Memory that rendering takes per pixel, measured: the radiance and coverage buffers,
@@ -259,6 +267,8 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   std::unique_ptr<ProgressReporter> progress;
   std::unique_ptr<Solver> solver;
   ChosenCamera camera;
+  fs::path out;             // the output folder, created in step 4
+  std::string trace_given;  // --set trace=FILE as given
   try {
     std::string camera_from;
     options = resolve_options(a, camera_from);
@@ -295,6 +305,14 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     if (!scene.warnings.empty()) progress->finish();  // warnings start on a clean line
     for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
     progress->update("preparing (hierarchy, rays, effects)", 0);
+    out = a.out.empty() ? default_out_dir(scene) : fs::path(a.out);
+    // A task trace goes with the run's other results: a relative path is inside the
+    // output folder (the Solver refuses a target that is not a trace before it starts;
+    // normal form, so that it checks run/../scene.obj as scene.obj, not through a
+    // folder that does not exist yet).
+    trace_given = options.trace;
+    if (!options.trace.empty() && fs::path(options.trace).is_relative())
+      options.trace = (out / options.trace).lexically_normal().string();
     solver = std::make_unique<Solver>(scene, options, progress->callback());
     if (camera.source == "automatic") {
       camera.automatic = automatic_camera(scene, solver->ray_scene());
@@ -311,7 +329,6 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
   }
 
   // 4: the output folder.
-  const fs::path out = a.out.empty() ? default_out_dir(scene) : fs::path(a.out);
   bool created = false;
   if (!make_output_folder(out, created)) return 1;
   // Results of an earlier run into the same folder go first: a file this run does not
@@ -332,6 +349,10 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     const std::string started = experiment::now_iso8601();
     stats = solver->run();
     stats.totals.scene_load_s = scene_load_s;
+    if (!trace_given.empty()) {
+      outputs["trace"] = trace_given;  // inside the folder when relative
+      if (fs::path(trace_given).is_relative()) written.push_back(trace_given);
+    }
     progress->finish();
     const auto mesh_start = Clock::now();
     const RenderMesh mesh = solver->render_mesh(options.shading);
@@ -391,7 +412,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
           {"compiler", build_info().compiler}}},
         {"command_line", ctx.argv},
         {"started_at", started},
-        {"config", options_to_json(options)},
+        {"config", config_json(options, trace_given)},
         {"config_file", a.config.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.config)},
         {"scene", scene_summary_json(scene)},
         {"camera", camera_json(camera.camera, camera.source, camera.view_file)},

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <nlohmann/json.hpp>
 
 #include <string>
 
@@ -34,8 +35,9 @@ TEST_F(InputFiles, FifosDevicesAndFoldersAreRefusedByName) {
   }
   ASSERT_EQ(
       hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status, 0);
-  refused("simulate t.trace --procs 2 --costs pipe", "pipe: the cost file is not a regular file");
-  refused("simulate t.trace --procs 2 --measured /dev/urandom",
+  refused("simulate run/t.trace --procs 2 --costs pipe",
+          "pipe: the cost file is not a regular file");
+  refused("simulate run/t.trace --procs 2 --measured /dev/urandom",
           "/dev/urandom: the stats file is not a regular file (a device)");
   refused("compare run pipe", "pipe: the probe table is not a regular file (a FIFO)");
   refused("solve builtin:cornell --probes run --out run2",
@@ -52,15 +54,24 @@ namespace {
 TEST_F(InputFiles, ATraceNeverOverwritesAnotherFile) {
   const std::string scene = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   write("tri.obj", scene);
-  Result r = hrad("solve tri.obj --set trace=tri.obj --out run");
+  // (A relative trace is inside the output folder: ../tri.obj from run/ is the scene.)
+  Result r = hrad("solve tri.obj --set trace=../tri.obj --out run");
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "tri.obj: trace: the file exists and is not an hrad trace")) << r.err;
   EXPECT_EQ(hrad::test::read_text(dir_ / "tri.obj"), scene);
   EXPECT_FALSE(std::filesystem::exists(dir_ / "run"));
   r = hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out a --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
-  r = hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out b --quiet");
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "a" / "t.trace"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "t.trace"));
+  const auto stats = nlohmann::json::parse(hrad::test::read_text(dir_ / "a" / "stats.json"));
+  EXPECT_EQ(stats["outputs"]["trace"], "t.trace");
+  EXPECT_EQ(stats["config"]["trace"], "t.trace");
+  // An earlier trace is replaced (an absolute path is used as it is).
+  const std::string abs = (dir_ / "a" / "t.trace").string();
+  r = hrad("solve builtin:cornell --iterations 1 --set trace=" + abs + " --out b --quiet");
   EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "b" / "t.trace"));
 }
 
 // A UTF-8 byte-order mark at the start of an OBJ, MTL, MGF, probe or view file broke

@@ -64,7 +64,7 @@ TEST_F(OptionBounds, ExperimentAndSimulateNumbersAreFinite) {
       hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status, 0);
   // A cost file cannot bring infinity either: JSON has none, and 1e999 overflows.
   write("costs.json", R"({"take_op_ns": 1e999})");
-  refused("simulate t.trace --costs costs.json --procs 2", "costs.json: not valid JSON");
+  refused("simulate run/t.trace --costs costs.json --procs 2", "costs.json: not valid JSON");
 }
 
 }  // namespace

@@ -66,6 +66,32 @@ TEST(Progress, LineRedrawsInPlaceAndFinishErasesIt) {
   EXPECT_EQ(s.back(), '\r');  // the destructor blanked the line
 }
 
+// Off a terminal (`hrad solve builtin:cabin | tee log` printed nothing for a minute): a
+// whole line every ten seconds once the run has lasted ten, nothing for a short run,
+// no '\r' and nothing to erase.
+TEST(Progress, OffATerminalAWholeLineEveryTenSeconds) {
+  Fixture f;
+  {
+    ProgressReporter r(f.out, ProgressReporter::Mode::Lines, f.clock());
+    for (int i = 0; i < 95; ++i) {  // 95 updates over 9.5 s: a short run
+      r.update("loading", 0);
+      f.now += std::chrono::milliseconds(100);
+    }
+    EXPECT_EQ(r.draws(), 0);
+    for (int i = 0; i < 300; ++i) {  // 30 s more
+      r.update("iteration 1/4: propagate", 0.5);
+      f.now += std::chrono::milliseconds(100);
+    }
+    EXPECT_EQ(r.draws(), 3);  // at 10, 20 and 30 s
+  }
+  const std::string s = f.text();
+  EXPECT_EQ(s.find('\r'), std::string::npos) << s;
+  EXPECT_EQ(s.rfind("hrad: progress: iteration 1/4: propagate", 0), 0u) << s;
+  EXPECT_NE(s.find("0:10 elapsed"), std::string::npos) << s;
+  EXPECT_NE(s.find("0:30 elapsed"), std::string::npos) << s;
+  EXPECT_EQ(s.back(), '\n');
+}
+
 TEST(Progress, FormatDurationAndLine) {
   EXPECT_EQ(ProgressReporter::format_duration(0), "0:00");
   EXPECT_EQ(ProgressReporter::format_duration(7.9), "0:07");

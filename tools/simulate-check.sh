@@ -14,7 +14,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 HRAD=$BUILD/hrad
-DIR=${TRACE_DIR:-/tmp/hrad-simcheck}
+DIR=$(realpath -m "${TRACE_DIR:-/tmp/hrad-simcheck}")  # absolute: a relative trace goes into --out
 DATA=../shared/measurements/16-core-2026-12-04/runs.jsonl
 COSTS=experiments/sim/costs-16core-44e96be.json
 mkdir -p "$DIR"

@@ -20,10 +20,17 @@ constexpr double kMinSecondsForEstimate = 1.0;
 }  // namespace
 
 ProgressReporter::ProgressReporter(bool quiet)
-    : ProgressReporter(stderr, !quiet && ::isatty(::fileno(stderr)) == 1, Clock::now) {}
+    : ProgressReporter(stderr,
+                       quiet                             ? Mode::Off
+                       : ::isatty(::fileno(stderr)) == 1 ? Mode::Redraw
+                                                         : Mode::Lines,
+                       Clock::now) {}
 
 ProgressReporter::ProgressReporter(std::FILE* out, bool enabled, NowFn now)
-    : out_(out), enabled_(enabled), now_(std::move(now)), start_(now_()) {}
+    : ProgressReporter(out, enabled ? Mode::Redraw : Mode::Off, std::move(now)) {}
+
+ProgressReporter::ProgressReporter(std::FILE* out, Mode mode, NowFn now)
+    : out_(out), mode_(mode), now_(std::move(now)), start_(now_()) {}
 
 ProgressReporter::~ProgressReporter() { finish(); }
 
@@ -61,8 +68,17 @@ std::string ProgressReporter::format_line(const std::string& phase, double fract
 }
 
 void ProgressReporter::update(const std::string& phase, double fraction) {
-  if (!enabled_) return;
+  if (mode_ == Mode::Off) return;
   const Clock::time_point now = now_();
+  if (mode_ == Mode::Lines) {
+    if (now - (draws_ > 0 ? last_draw_ : start_) < kLogInterval) return;
+    last_draw_ = now;
+    std::fprintf(out_, "hrad: progress: %s\n",
+                 format_line(phase, fraction, seconds_between(start_, now)).c_str());
+    std::fflush(out_);
+    ++draws_;
+    return;
+  }
   if (draws_ > 0 && now - last_draw_ < kMinInterval) return;
   last_draw_ = now;
   const double elapsed = seconds_between(start_, now);
@@ -75,7 +91,7 @@ void ProgressReporter::update(const std::string& phase, double fraction) {
 }
 
 void ProgressReporter::finish() {
-  if (!enabled_ || last_width_ == 0) return;
+  if (mode_ != Mode::Redraw || last_width_ == 0) return;
   std::fprintf(out_, "\r%*s\r", static_cast<int>(last_width_), "");
   std::fflush(out_);
   last_width_ = 0;

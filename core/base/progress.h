@@ -1,8 +1,10 @@
 // A progress line for long runs: "iteration 2/4: refine 1.23M tasks, 310k links  43.0%
-// 0:12 elapsed, ~0:16 left",
-// redrawn in place with '\r' on stderr, at most 10 times per second, and only when
-// stderr is a terminal, so pipes and log files stay clean. Its callback() is the
-// Solver's ProgressFn (core/solver/solver.h); like that, it is meant for one thread.
+// 0:12 elapsed, ~0:16 left", on stderr. On a terminal it is redrawn in place with '\r',
+// at most 10 times per second. Elsewhere (a pipe, `| tee log`, a log file) a run that
+// lasts kLogInterval or longer prints it as a whole line every kLogInterval, so a long
+// run shows what it is doing without filling the log ("hrad: progress: ..."), and a
+// short one prints nothing. Its callback() is the Solver's ProgressFn
+// (core/solver/solver.h); like that, it is meant for one thread.
 #pragma once
 
 #include "core/base/clock.h"
@@ -22,11 +24,18 @@ class ProgressReporter {
 
   /// Minimum time between two drawn lines (10 updates per second at most).
   static constexpr std::chrono::milliseconds kMinInterval{100};
+  /// Off a terminal: the first line after this long, then one per this long.
+  static constexpr std::chrono::seconds kLogInterval{10};
 
-  /// Draws on stderr when stderr is a terminal (isatty) and `quiet` is false.
+  /// How lines are shown: not at all, redrawn in place, or as whole lines (a log).
+  enum class Mode { Off, Redraw, Lines };
+
+  /// On stderr unless `quiet`: redrawn when stderr is a terminal (isatty), else lines.
   explicit ProgressReporter(bool quiet = false);
-  /// For tests: draws on `out` when `enabled`, reading time from `now`.
+  /// For tests: draws on `out` when `enabled` (redrawn), reading time from `now`.
   ProgressReporter(std::FILE* out, bool enabled, NowFn now);
+  /// For tests and callers with their own stream: `mode` on `out`.
+  ProgressReporter(std::FILE* out, Mode mode, NowFn now);
   ~ProgressReporter();
   ProgressReporter(const ProgressReporter&) = delete;
   ProgressReporter& operator=(const ProgressReporter&) = delete;
@@ -40,7 +49,7 @@ class ProgressReporter {
   /// A callable forwarding to update(); valid while this reporter lives.
   [[nodiscard]] std::function<void(const std::string&, double)> callback();
 
-  [[nodiscard]] bool enabled() const { return enabled_; }
+  [[nodiscard]] bool enabled() const { return mode_ != Mode::Off; }
   /// Lines drawn so far.
   [[nodiscard]] int draws() const { return draws_; }
 
@@ -54,7 +63,7 @@ class ProgressReporter {
 
  private:
   std::FILE* out_;
-  bool enabled_;
+  Mode mode_;
   NowFn now_;
   Clock::time_point start_;
   Clock::time_point last_draw_;
