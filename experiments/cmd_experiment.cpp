@@ -19,6 +19,7 @@
 #include "core/base/interrupt.h"
 #include "core/scene/scene_loader.h"
 #include "experiments/commands.h"
+#include "experiments/harness/core_share.h"
 #include "experiments/harness/experiment_config.h"
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/manifest.h"
@@ -74,6 +75,25 @@ std::string resume_command(const std::string& config, const fs::path& dir) {
   return fmt::format("hrad experiment {} --resume {}", word(config), word(dir.string()));
 }
 
+// Points that ask for more refiner threads than this process may run on measure
+// threads sharing CPUs, not scaling (a shipped sweep to 32 threads on two CPUs said
+// nothing). "" when every point fits.
+std::string oversubscription_warning(const std::vector<SweepPoint>& points) {
+  const std::size_t cpus = allowed_cpus().size();
+  std::size_t over = 0;
+  int most = 0;
+  for (const SweepPoint& p : points) {
+    most = std::max(most, p.options.threads);
+    if (static_cast<std::size_t>(p.options.threads) > cpus) ++over;
+  }
+  if (over == 0) return "";
+  return fmt::format(
+      "{} of the {} points ask for more threads than the {} CPU(s) this process may use (up "
+      "to {}): their times measure threads sharing CPUs, not scaling; run them on a machine "
+      "with {} or more, or narrow the sweep (--set sweep.threads=1,2,...)",
+      over, points.size(), cpus, most, most);
+}
+
 int run_command(ExperimentArgs a, const CommandContext& ctx) {
   // Started by an MPI launcher with several ranks: rank 0 speaks for all of them.
   const mpi::LaunchInfo launch = mpi::launch_info();
@@ -116,14 +136,18 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
   mpi_options.worker_timeout_s = a.worker_timeout;
   mpi_options.cores = a.rank_cores == "inherit" ? mpi::RankCores::Inherit : mpi::RankCores::Share;
 
+  const std::string oversubscribed = distributed ? "" : oversubscription_warning(points);
   if (a.dry_run) {
     if (!lead) return 0;
     fmt::print("{}: {} points x {} repetitions = {} runs\n", config.name, points.size(),
                config.repetitions, points.size() * static_cast<std::size_t>(config.repetitions));
     for (const SweepPoint& p : points)
       fmt::print("  {:4}  {}  {}\n", p.index, p.scene, describe_point(p));
+    std::fflush(stdout);  // the list, then the warning
+    if (!oversubscribed.empty()) fmt::print(stderr, "hrad: warning: {}\n", oversubscribed);
     return 0;
   }
+  if (!oversubscribed.empty()) fmt::print(stderr, "hrad: warning: {}\n", oversubscribed);
 
   fs::path dir;
   if (!a.resume.empty()) {

@@ -211,6 +211,19 @@ TEST(ExperimentCli, QuickRunWithSetAndDryRun) {
   ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() + " --quick --dry-run", out), 0)
       << out;
   EXPECT_NE(out.find("2 points x 1 repetitions = 2 runs"), std::string::npos) << out;
+  EXPECT_EQ(out.find("more threads than"), std::string::npos) << out;
+  // A sweep past this machine's CPUs says so, in --dry-run too (it did not), and the
+  // manifest records the load the runs started under.
+  ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
+                         " --quick --dry-run --set sweep.threads=1,1024",
+                     out),
+            0)
+      << out;
+  EXPECT_NE(out.find("hrad: warning: 1 of the 2 points ask for more threads than the "),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("(up to 1024): their times measure threads sharing CPUs"), std::string::npos)
+      << out;
   ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
                          " --quick --set sweep.threads=1 --set repetitions=2 --no-plot --out " +
                          (d.path / "res").string(),
@@ -223,6 +236,8 @@ TEST(ExperimentCli, QuickRunWithSetAndDryRun) {
   EXPECT_EQ(m["experiment"]["quick"], true);
   EXPECT_EQ(m["experiment"]["sets"].size(), 2u);
   EXPECT_EQ(m["command_line"][1], "experiment");
+  EXPECT_EQ(m["machine"]["load_average"].size(), 3u);
+  EXPECT_GE(m["machine"]["cpus_allowed"].get<int>(), 1);
   // Same command again: the folder is complete, nothing reruns.
   ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
                          " --quick --set sweep.threads=1 --set repetitions=2 --no-plot --out " +

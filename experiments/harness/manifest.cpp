@@ -5,6 +5,7 @@
 #include "core/base/json_input.h"
 #include "core/base/provenance.h"
 #include "core/parallel/topology.h"
+#include "experiments/harness/core_share.h"
 #include "experiments/harness/run_rows.h"
 
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <sstream>
@@ -61,6 +63,10 @@ ojson machine_json(const std::string& cpu) {
                              : std::string("unknown");
   m["cpu"] = cpu;
   m["pus_online"] = ::sysconf(_SC_NPROCESSORS_ONLN);
+  m["cpus_allowed"] = allowed_cpus().size();  // this process's affinity
+  // The load when the experiment started: other work on the machine slows its runs.
+  double load[3] = {0, 0, 0};
+  if (::getloadavg(load, 3) == 3) m["load_average"] = {load[0], load[1], load[2]};
   m["memory_bytes"] = static_cast<std::uint64_t>(::sysconf(_SC_PHYS_PAGES)) *
                       static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
   return m;
