@@ -102,70 +102,78 @@ std::size_t root_of(std::vector<std::size_t>& parent, std::size_t i) {
   return i;
 }
 
-RenderMesh smooth_mesh(std::span<const ShadingPatch> patches, double tolerance) {
-  PointIndex index(tolerance);
-  for (const ShadingPatch& p : patches)
-    for (const Vec3& c : p.corners) (void)index.insert(c);
+// Each patch's boundary loop: its corners with the hanging points between them, as
+// point ids of `index`, loop after loop.
+struct Loops {
+  std::vector<std::uint32_t> point;
+  std::vector<std::uint8_t> is_corner;
+  std::vector<std::size_t> begin{0};  // patch i: entries begin[i] .. begin[i + 1]
+  std::vector<std::uint32_t> patch;   // per entry: its patch
+};
 
-  // Each patch's boundary loop: its corners with the hanging points between them.
-  std::vector<std::uint32_t> loop_point;
-  std::vector<std::uint8_t> loop_is_corner;
-  std::vector<std::size_t> loop_begin{0};
+Loops boundary_loops(std::span<const ShadingPatch> patches, const PointIndex& index,
+                     double tolerance) {
+  Loops l;
   std::vector<std::uint32_t> between;
   for (const ShadingPatch& p : patches) {
     const std::size_t k = p.corners.size();
     for (std::size_t i = 0; i < k; ++i) {
-      loop_point.push_back(*index.find(p.corners[i]));
-      loop_is_corner.push_back(1);
+      l.point.push_back(*index.find(p.corners[i]));
+      l.is_corner.push_back(1);
       between.clear();
       hanging_points(index, p.corners[i], p.corners[(i + 1) % k], 2 * tolerance, 48, between);
       for (std::uint32_t id : between) {
-        loop_point.push_back(id);
-        loop_is_corner.push_back(0);
+        l.point.push_back(id);
+        l.is_corner.push_back(0);
       }
     }
-    loop_begin.push_back(loop_point.size());
+    l.begin.push_back(l.point.size());
   }
-  std::vector<std::uint32_t> patch_of(loop_point.size());
+  l.patch.resize(l.point.size());
   for (std::size_t i = 0; i < patches.size(); ++i)
-    std::fill(patch_of.begin() + static_cast<std::ptrdiff_t>(loop_begin[i]),
-              patch_of.begin() + static_cast<std::ptrdiff_t>(loop_begin[i + 1]),
+    std::fill(l.patch.begin() + static_cast<std::ptrdiff_t>(l.begin[i]),
+              l.patch.begin() + static_cast<std::ptrdiff_t>(l.begin[i + 1]),
               static_cast<std::uint32_t>(i));
+  return l;
+}
 
+// One vertex per point and smoothing group (patches of one material whose normals are
+// within kSmoothAngleDeg), valued by the group's open-area mean; returns each loop
+// entry's vertex.
+std::vector<std::uint32_t> shared_vertices(std::span<const ShadingPatch> patches,
+                                           const PointIndex& index, const Loops& l,
+                                           RenderMesh& mesh) {
   // The loop entries at each point (compressed rows).
   std::vector<std::size_t> at_begin(index.size() + 1, 0);
-  for (std::uint32_t id : loop_point) ++at_begin[id + 1];
+  for (std::uint32_t id : l.point) ++at_begin[id + 1];
   for (std::size_t i = 0; i < index.size(); ++i) at_begin[i + 1] += at_begin[i];
-  std::vector<std::size_t> at(loop_point.size());
+  std::vector<std::size_t> at(l.point.size());
   {
     std::vector<std::size_t> fill(at_begin.begin(), at_begin.end() - 1);
-    for (std::size_t e = 0; e < loop_point.size(); ++e) at[fill[loop_point[e]]++] = e;
+    for (std::size_t e = 0; e < l.point.size(); ++e) at[fill[l.point[e]]++] = e;
   }
-
-  // One vertex per point and smoothing group.
-  RenderMesh mesh;
-  std::vector<std::uint32_t> loop_vertex(loop_point.size());
+  std::vector<std::uint32_t> loop_vertex(l.point.size());
   const double min_cos = std::cos(kSmoothAngleDeg * std::numbers::pi / 180);
   std::vector<std::size_t> parent;
   for (std::size_t pt = 0; pt < index.size(); ++pt) {
     const std::size_t b = at_begin[pt], n = at_begin[pt + 1] - b;
+    const auto patch_at = [&](std::size_t i) -> const ShadingPatch& {
+      return patches[l.patch[at[b + i]]];
+    };
     parent.resize(n);
     for (std::size_t i = 0; i < n; ++i) parent[i] = i;
-    for (std::size_t i = 0; i < n; ++i) {
-      const ShadingPatch& pi = patches[patch_of[at[b + i]]];
-      for (std::size_t j = i + 1; j < n; ++j) {
-        const ShadingPatch& pj = patches[patch_of[at[b + j]]];
-        if (pi.material == pj.material && pi.normal.dot(pj.normal) >= min_cos)
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j)
+        if (patch_at(i).material == patch_at(j).material &&
+            patch_at(i).normal.dot(patch_at(j).normal) >= min_cos)
           parent[root_of(parent, j)] = root_of(parent, i);
-      }
-    }
     for (std::size_t g = 0; g < n; ++g) {
       if (root_of(parent, g) != g) continue;
       Rgb open_sum = Rgb::Zero(), area_sum = Rgb::Zero();
       double open_w = 0, area_w = 0;
       for (std::size_t i = 0; i < n; ++i) {
         if (root_of(parent, i) != g) continue;
-        const ShadingPatch& p = patches[patch_of[at[b + i]]];
+        const ShadingPatch& p = patch_at(i);
         const double w = p.area * std::clamp(p.open, 0.0, 1.0);
         open_sum += w * p.radiosity;
         open_w += w;
@@ -176,18 +184,28 @@ RenderMesh smooth_mesh(std::span<const ShadingPatch> patches, double tolerance) 
       mesh.positions.push_back(index.point(static_cast<std::uint32_t>(pt)));
       mesh.radiosity.push_back(open_w > 0   ? Rgb(open_sum / open_w)
                                : area_w > 0 ? Rgb(area_sum / area_w)
-                                            : patches[patch_of[at[b + g]]].radiosity);
-      mesh.reflectance.push_back(patches[patch_of[at[b + g]]].reflectance);
+                                            : patch_at(g).radiosity);
+      mesh.reflectance.push_back(patch_at(g).reflectance);
       for (std::size_t i = 0; i < n; ++i)
         if (root_of(parent, i) == g) loop_vertex[at[b + i]] = v;
     }
   }
+  return loop_vertex;
+}
+
+RenderMesh smooth_mesh(std::span<const ShadingPatch> patches, double tolerance) {
+  PointIndex index(tolerance);
+  for (const ShadingPatch& p : patches)
+    for (const Vec3& c : p.corners) (void)index.insert(c);
+  const Loops loops = boundary_loops(patches, index, tolerance);
+  RenderMesh mesh;
+  const std::vector<std::uint32_t> loop_vertex = shared_vertices(patches, index, loops, mesh);
 
   // The polygons: a leaf without hanging points as it is; one with them (or with more
   // than 4 corners) as a fan around its centre.
   for (std::size_t i = 0; i < patches.size(); ++i) {
     const ShadingPatch& p = patches[i];
-    const std::size_t b = loop_begin[i], e = loop_begin[i + 1], k = p.corners.size();
+    const std::size_t b = loops.begin[i], e = loops.begin[i + 1], k = p.corners.size();
     if (e - b == k && k <= 4) {
       mesh.polys.push_back({loop_vertex[b], loop_vertex[b + 1], loop_vertex[b + 2],
                             k == 4 ? loop_vertex[b + 3] : RenderMesh::kNoVertex});
@@ -196,7 +214,7 @@ RenderMesh smooth_mesh(std::span<const ShadingPatch> patches, double tolerance) 
     Vec3 centre = Vec3::Zero();
     Rgb value = Rgb::Zero();
     for (std::size_t j = b; j < e; ++j)
-      if (loop_is_corner[j]) value += mesh.radiosity[loop_vertex[j]];
+      if (loops.is_corner[j]) value += mesh.radiosity[loop_vertex[j]];
     for (const Vec3& c : p.corners) centre += c;
     centre /= static_cast<double>(k);  // the bilinear centre of a quad, a triangle's centroid
     if (k > 4) centre = p.centre;
