@@ -4,7 +4,9 @@
 #include "core/scene/polygon_key.h"
 #include "core/scene/scene.h"
 
-#include <unordered_map>
+#include <algorithm>
+#include <utility>
+#include <vector>
 
 namespace hrad {
 
@@ -18,19 +20,22 @@ std::vector<std::uint32_t> find_twins(std::span<const Vec3> vertices,
     for (std::uint32_t k = 0; k < polygons[i].count; ++k)
       out.push_back(vertices[indices[polygons[i].first + k]]);
   };
-  // Forward hash -> polygons; then each polygon looks up its reversed cycle.
-  std::unordered_multimap<std::size_t, std::uint32_t> by_hash;
-  by_hash.reserve(n);
+  // Forward hashes, sorted with their polygons (16 bytes a polygon; a hash multimap's nodes and
+  // buckets took about 40, gigabytes on large scenes before any memory limit applied); then each
+  // polygon looks up its reversed cycle, candidates in polygon order.
+  std::vector<std::pair<std::size_t, std::uint32_t>> by_hash(n);
   std::vector<Vec3> p, q;
   for (std::size_t i = 0; i < n; ++i) {
     corners(i, p);
-    by_hash.emplace(cycle_hash(p), static_cast<std::uint32_t>(i));
+    by_hash[i] = {cycle_hash(p), static_cast<std::uint32_t>(i)};
   }
+  std::sort(by_hash.begin(), by_hash.end());
   for (std::size_t i = 0; i < n; ++i) {
     if (twin[i] != kNoTwin) continue;
     corners(i, p);
-    const auto [lo, hi] = by_hash.equal_range(cycle_hash(p, /*reversed=*/true));
-    for (auto it = lo; it != hi; ++it) {
+    const std::size_t h = cycle_hash(p, /*reversed=*/true);
+    for (auto it = std::lower_bound(by_hash.begin(), by_hash.end(), std::make_pair(h, 0u));
+         it != by_hash.end() && it->first == h; ++it) {
       const std::uint32_t j = it->second;
       if (j == i || twin[j] != kNoTwin) continue;
       corners(j, q);
