@@ -134,6 +134,7 @@ struct ChosenCamera {
   std::string source;     ///< "option", "view file", "config", "scene", "automatic"
   std::string view_file;  ///< for "view file"
   AutoCamera automatic;   ///< for "automatic"
+  int up_axis = -1;       ///< "automatic" with --camera up=...: its axis
 };
 
 /// First of: the camera key set on the command line (--camera, --set camera=...),
@@ -164,6 +165,10 @@ ChosenCamera choose_camera(const SolveArgs& a, const SolverOptions& o,
   auto from_key = [&](const char* source) {
     if (is_auto_camera(o.camera)) return automatic();
     try {
+      if (const std::optional<int> axis = automatic_camera_up(o.camera)) {
+        c.up_axis = *axis;  // the automatic camera, with this up axis
+        return automatic();
+      }
       c.camera = resolve_camera(parse_camera_spec(o.camera), up);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(fmt::format("option camera = '{}': {}", o.camera, e.what()));
@@ -302,6 +307,7 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
             fmt::format("{}: holds no probe (only comments or blank lines)", a.probes));
     }
     camera = choose_camera(a, options, camera_from, scene);
+    if (camera.up_axis >= 0) scene.declared_up = camera.up_axis;
     if (!scene.warnings.empty()) progress->finish();  // warnings start on a clean line
     for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
     progress->update("preparing (hierarchy, rays, effects)", 0);
@@ -504,9 +510,10 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
   args->camera_option =
       sub->add_option("--camera", args->camera,
                       "Camera of the image: eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG] (up: the "
-                      "scene's up axis, fov: 60 degrees, by default), or auto; sets config key "
-                      "camera [default: --view, the config's camera, SCENE.view, the scene's "
-                      "own, else automatic]")
+                      "scene's up axis, fov: 60 degrees, by default), or auto, or up=X,Y,Z "
+                      "alone (the automatic camera with up along +x, +y or +z); sets config "
+                      "key camera [default: --view, the config's camera, SCENE.view, the "
+                      "scene's own, else automatic]")
           ->type_name("SPEC");
   sub->add_option("--view", args->view,
                   "Camera of the image from a view file: lines 'eye X Y Z', 'look X Y Z', "

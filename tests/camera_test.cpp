@@ -103,6 +103,46 @@ TEST(CameraSpec, RejectsMalformedTextNamingTheBadPart) {
   }
 }
 
+// `--camera` could not fix only the up axis: "up=X,Y,Z" alone (or after "auto:") asks
+// for the automatic camera with that up, along +x, +y or +z.
+TEST(CameraSpec, UpAloneAsksForTheAutomaticCameraWithThatUp) {
+  EXPECT_EQ(automatic_camera_up("up=0,0,1"), 2);
+  EXPECT_EQ(automatic_camera_up("auto:up=2.5,0,0"), 0);
+  EXPECT_EQ(automatic_camera_up("up=0,1,0"), 1);
+  EXPECT_FALSE(automatic_camera_up("auto").has_value());
+  EXPECT_FALSE(automatic_camera_up("eye=0,0,0:look=1,0,0:up=0,0,1").has_value());
+  EXPECT_TRUE(contains(error_of([] { (void)automatic_camera_up("up=0,1,1"); }),
+                       "takes up along +x, +y or +z"));
+  EXPECT_TRUE(contains(error_of([] { (void)automatic_camera_up("up=0,0,-1"); }), "not (0,0,-1)"));
+  EXPECT_TRUE(
+      contains(error_of([] { (void)automatic_camera_up("up=0,1"); }), "needs three numbers"));
+}
+
+// A room 4 wide, 3 deep and 3 high (z up) faces as much area along y as along z: OBJ
+// (y up by convention) calls it y-up; MGF, drawn z-up by RenderPark and Radiance, z-up
+// (its image came out rotated 90 degrees); a declared up wins over both.
+TEST(SceneUpAxis, MgfRoomsAreZUpUnlessClearlyNot) {
+  Scene room;
+  const auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+    const auto first = static_cast<std::uint32_t>(room.indices.size());
+    for (const Vec3& v : {a, b, c, d}) {
+      room.indices.push_back(static_cast<std::uint32_t>(room.vertices.size()));
+      room.vertices.push_back(v);
+    }
+    room.faces.push_back(Face{first, 4, 0});
+  };
+  quad({0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0});  // floor and ceiling: 24 along z
+  quad({0, 0, 3}, {0, 3, 3}, {4, 3, 3}, {4, 0, 3});
+  quad({0, 0, 0}, {0, 0, 3}, {4, 0, 3}, {4, 0, 0});  // two walls: 24 along y
+  quad({0, 3, 0}, {4, 3, 0}, {4, 3, 3}, {0, 3, 3});
+  room.source = "room.obj";
+  EXPECT_EQ(room.up_axis(), 1);
+  room.source = "rooms/room.MGF";
+  EXPECT_EQ(room.up_axis(), 2);
+  room.declared_up = 0;
+  EXPECT_EQ(room.up_axis(), 0);
+}
+
 TEST(CameraSpec, ResolvingNamesAViewAlongTheDefaultUp) {
   const CameraSpec s = parse_camera_spec("eye=0,10,0:look=0,0,0");
   const std::string e =

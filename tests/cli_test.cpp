@@ -106,6 +106,13 @@ TEST_F(Cli, FirstHourTraps) {
   ASSERT_EQ(r.status, 0) << r.err;
   const auto again = nlohmann::json::parse(read_text(dir_ / "again" / "stats.json"));
   EXPECT_EQ(again["config"], first["config"]);
+
+  // The automatic camera with only its up axis given.
+  r = hrad("solve builtin:cornell --camera up=1,0,0 -o up --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto up = nlohmann::json::parse(read_text(dir_ / "up" / "stats.json"));
+  EXPECT_EQ(up["camera"]["source"], "automatic");
+  EXPECT_EQ(up["camera"]["up"], nlohmann::json::array({1.0, 0.0, 0.0}));
 }
 
 TEST_F(Cli, MissingSceneFileNamesItAndCreatesNoFolder) {

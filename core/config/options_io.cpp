@@ -44,7 +44,8 @@ struct Row {
 };
 
 void check_camera_text(const std::string& text) {
-  if (!text.empty() && !is_auto_camera(text)) (void)parse_camera_spec(text);
+  if (!text.empty() && !is_auto_camera(text) && !automatic_camera_up(text))
+    (void)parse_camera_spec(text);
 }
 
 const std::vector<Row>& rows() {

@@ -67,6 +67,24 @@ std::string fov_error(double fov) {
 
 bool is_auto_camera(std::string_view text) { return text == "auto"; }
 
+std::optional<int> automatic_camera_up(std::string_view text) {
+  if (text.starts_with("auto:")) text.remove_prefix(5);
+  if (!text.starts_with("up=") || text.find(':') != std::string_view::npos) return std::nullopt;
+  const auto numbers = split(text.substr(3), ',');
+  Vec3 v;
+  bool ok = numbers.size() == 3;
+  for (std::size_t i = 0; ok && i < 3; ++i)
+    ok = parse_finite_number(numbers[i], v[static_cast<int>(i)]);
+  if (!ok)
+    throw std::invalid_argument(fmt::format("'{}' needs three numbers up=X,Y,Z", brief_text(text)));
+  for (int axis = 0; axis < 3; ++axis)
+    if (v[axis] > 0 && v[(axis + 1) % 3] == 0 && v[(axis + 2) % 3] == 0) return axis;
+  throw std::invalid_argument(fmt::format(
+      "the automatic camera takes up along +x, +y or +z (up=1,0,0, up=0,1,0 or up=0,0,1), "
+      "not ({:g},{:g},{:g}); give eye and look as well for any other up",
+      v.x(), v.y(), v.z()));
+}
+
 CameraSpec parse_camera_spec(std::string_view text) {
   if (text.empty()) throw std::invalid_argument(fmt::format("empty camera; give {}", kParts));
   CameraSpec s;

@@ -3,7 +3,8 @@
 //
 // Spec (one line):  eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG]
 //   parts separated by ':', in any order, each at most once; eye and look required.
-//   The single word "auto" asks for the automatic camera (core/output/auto_camera.h).
+//   The single word "auto" asks for the automatic camera (core/output/auto_camera.h);
+//   "up=X,Y,Z" alone (or "auto:up=X,Y,Z") asks for it with that up axis.
 // View file:  one "keyword numbers" per line, whitespace-separated:
 //   eye X Y Z / look X Y Z / up X Y Z / fov DEG; blank lines and '#' comments ignored.
 // Defaults: up = the scene's up axis (Scene::up_axis: +y, or +z for z-up scenes),
@@ -32,6 +33,12 @@ struct CameraSpec {
 
 /// True for the word "auto".
 [[nodiscard]] bool is_auto_camera(std::string_view text);
+
+/// The automatic camera with a given up axis: for "up=X,Y,Z" or "auto:up=X,Y,Z", the
+/// axis (0, 1 or 2) that X,Y,Z points along; nullopt for any other text. Throws
+/// std::invalid_argument when X,Y,Z is not +x, +y or +z (the automatic camera looks
+/// along the other two).
+[[nodiscard]] std::optional<int> automatic_camera_up(std::string_view text);
 
 /// Parses a spec (not "auto"). Throws std::invalid_argument whose message names the
 /// bad part: "'eye=1,2' needs three numbers x,y,z", "unknown part 'pos=1,2,3' ...",

@@ -1,7 +1,9 @@
 #include "core/scene/scene.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <utility>
@@ -97,6 +99,7 @@ bool Scene::is_grey() const {
 }
 
 int Scene::up_axis() const {
+  if (declared_up >= 0) return declared_up;
   // Face area by axis: |vector area| per component (area times |normal|), by
   // Newell's sum without copying the vertices.
   Vec3 area_by_axis = Vec3::Zero();
@@ -107,6 +110,9 @@ int Scene::up_axis() const {
           vertices[indices[face.first + (i + 1) % face.count]]);
     area_by_axis += 0.5 * n.cwiseAbs();
   }
+  std::string ext = std::filesystem::path(source).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".mgf") return area_by_axis.y() > 1.5 * area_by_axis.z() ? 1 : 2;
   return area_by_axis.z() > 1.5 * area_by_axis.y() ? 2 : 1;
 }
 

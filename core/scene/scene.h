@@ -83,8 +83,11 @@ struct Scene {
   [[nodiscard]] double max_channel_emitted_power() const;
   /// True when every reflectance and emission has equal channels.
   [[nodiscard]] bool is_grey() const;
-  /// 2 (z up) when clearly more face area faces along z than along y (1.5 times),
-  /// else 1 (y up, the OBJ convention).
+  /// The up axis a user declared (`--camera up=0,0,1`), or -1: found from the faces.
+  int declared_up = -1;
+  /// declared_up when set; else for an MGF scene (z up, as RenderPark and Radiance
+  /// draw them) 2 unless clearly more face area faces along y than along z (1.5 times),
+  /// and for any other 1 (y up, the OBJ convention) unless clearly more faces along z.
   [[nodiscard]] int up_axis() const;
   /// A camera looking horizontally into the scene from outside its bounding box
   /// through the side with the least wall facing inwards, when that side is open (its
