@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace hrad {
 
@@ -53,7 +54,7 @@ bool segment_reaches_inside(const Flat& f, const Vec3& p, const Vec3& q, double 
   return true;
 }
 
-// Whether polygon g (its corners) reaches into f's inside: see find_face_crossings.
+// Whether polygon g (its corners) reaches into f's inside: see crossed_inside.
 bool reaches_into(const Flat& f, std::span<const Vec3> g, double tol) {
   const Vec3& c0 = f.corner[0];
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;

@@ -93,9 +93,7 @@ double quick_open_fraction(const Element& e, const Vec3& u, const Vec3& v,
 // Whether another polygon reaches into the surface element e (face_crossings.h), at the
 // reach of RayScene::lies_against.
 bool crossed(const Element& e, const Hierarchy& hierarchy, const RayScene& rays) {
-  const std::span<const Vec3> corners = e.nverts <= 4 ? std::span<const Vec3>(e.corner, e.nverts)
-                                                      : std::span<const Vec3>(e.ngon, e.nverts);
-  return crossed_inside(rays, hierarchy.scene(), corners, e.normal, e.face,
+  return crossed_inside(rays, hierarchy.scene(), e.corners(), e.normal, e.face,
                         RayScene::kContactReach * rays.scale());
 }
 
