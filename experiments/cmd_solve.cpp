@@ -379,9 +379,10 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
       const int width = options.image_width;
       const int height = std::max(1, width * 3 / 4);
       const auto render_start = Clock::now();
-      const Image img = render_radiance(mesh, camera.camera, width, height);
+      const Image img = render_radiance(mesh, camera.camera, width, height, options.image_samples);
       image_info["width"] = width;
       image_info["height"] = height;
+      image_info["samples_per_pixel"] = options.image_samples * options.image_samples;
       image_info["render_s"] = seconds_since(render_start);
       const double k = write_png(img, image, tone);
       image_info["exposure"] = {{"stops", options.exposure},

@@ -41,6 +41,7 @@ SolverOptions non_default_options() {
   o.locks_pool = 64;
   o.trace = "trace.bin";
   o.image_width = 320;
+  o.image_samples = 3;
   o.effects = EffectsMode::All;
   o.shaft_culling = ShaftCulling::On;
   o.max_memory_gb = 2.5;
@@ -87,6 +88,7 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.locks_pool, b.locks_pool);
   EXPECT_EQ(a.trace, b.trace);
   EXPECT_EQ(a.image_width, b.image_width);
+  EXPECT_EQ(a.image_samples, b.image_samples);
   EXPECT_EQ(a.effects, b.effects);
   EXPECT_EQ(a.shaft_culling, b.shaft_culling);
   EXPECT_EQ(a.max_memory_gb, b.max_memory_gb);
@@ -118,7 +120,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
       selected += chosen;
     }
   }
-  EXPECT_EQ(fields, 32u);  // one per field of SolverOptions but plugin_params
+  EXPECT_EQ(fields, 33u);  // one per field of SolverOptions but plugin_params
   std::size_t declared = 0;
   for (const std::string& n : scheduler_names()) declared += scheduler_params(n).size();
   for (const std::string& n : oracle_names()) declared += oracle_params(n).size();
@@ -305,6 +307,7 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
       {"decision_rays=fresh", "decision_rays"},
       {"push_visibility=rays", "push_visibility"},
       {"image_width=0", "image_width"},
+      {"image_samples=17", "image_samples"},
       {"shading=phong", "shading"},
       {"exposure=65", "exposure"},
       {"pin=sideways", "pin"},

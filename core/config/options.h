@@ -28,6 +28,7 @@
 // | locks_pool          | int             | 0            | hashed locks per class (0: 2 x threads) |
 // | trace               | string          | ""           | task trace file ("" = none)             |
 // | image_width         | int             | 640          | render.png width                        |
+// | image_samples       | int             | 2            | samples per pixel side (antialiasing)   |
 // | effects             | EffectsMode     | auto         | core/config/modes.h, effects.h          |
 // | shaft_culling       | ShaftCulling    | off          | core/config/modes.h                     |
 // | decision_rays       | DecisionRays    | shared       | core/config/modes.h                     |
@@ -89,6 +90,7 @@ struct SolverOptions {
   int locks_pool = 0;
   std::string trace;
   int image_width = 640;
+  int image_samples = 2;
   EffectsMode effects = EffectsMode::Auto;
   ShaftCulling shaft_culling = ShaftCulling::Off;
   DecisionRays decision_rays = DecisionRays::Shared;

@@ -79,6 +79,9 @@ const std::vector<Row>& rows() {
       {"locks_pool", &S::locks_pool, "hashed locks per lock class (0: twice the refiner count)"},
       {"trace", &S::trace, "file to record a task trace to (empty: none)"},
       {"image_width", &S::image_width, "render.png width in pixels (height: 3/4 of it)"},
+      {"image_samples", &S::image_samples,
+       "render.png's samples per pixel side: N x N stratified rays per pixel (1: one ray "
+       "through the centre, stair-stepped edges)"},
       {"effects", &S::effects, "which effects are computed"},
       {"shaft_culling", &S::shaft_culling, "visibility without rays where a shaft is empty"},
       {"decision_rays", &S::decision_rays, "which rays an accepted link's visibility is from"},
@@ -520,6 +523,8 @@ void validate_ranges(const SolverOptions& o) {
         fmt::format("between 0 (automatic) and {}", kMaxLocksPool));
   check(o.image_width >= 8 && o.image_width <= 16384, "image_width", str(o.image_width),
         "between 8 and 16384");
+  check(o.image_samples >= 1 && o.image_samples <= 16, "image_samples", str(o.image_samples),
+        "between 1 and 16");
   check(o.segments == 0 || (o.segments >= 3 && o.segments <= 4096), "segments", str(o.segments),
         "0 (automatic) or between 3 and 4096");
   check(std::isfinite(o.exposure) && std::abs(o.exposure) <= 64, "exposure", str(o.exposure),
