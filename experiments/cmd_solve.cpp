@@ -257,10 +257,9 @@ void check_image_memory(const SolverOptions& o) {
   const std::uint64_t limit = memory_limit_bytes(o.max_memory_gb);
   if (limit > 0 && need > static_cast<double>(limit))
     throw std::invalid_argument(fmt::format(
-        "image_width {}: rendering {} x {} pixels needs about {:.3g} GB, above the limit of "
-        "{:.3g} GB (max_memory_gb; 0 means 3/4 of this machine's memory): lower image_width "
-        "or raise max_memory_gb",
-        o.image_width, o.image_width, height, need / 1e9, static_cast<double>(limit) / 1e9));
+        "image_width {}: rendering {} x {} pixels needs about {:.3g} GB, above {}: lower "
+        "image_width or raise max_memory_gb",
+        o.image_width, o.image_width, height, need / 1e9, memory_limit_text(limit)));
 }
 
 int run_solve(const SolveArgs& a, const CommandContext& ctx) {

@@ -211,6 +211,11 @@ std::uint64_t memory_limit_bytes(double gb) {
   return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 4 * 3;
 }
 
+std::string memory_limit_text(std::uint64_t limit_bytes) {
+  return fmt::format("the limit of {:.3g} GB (max_memory_gb; 0 means 3/4 of this machine's memory)",
+                     static_cast<double>(limit_bytes) / 1e9);
+}
+
 Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn progress) {
   validate_options(options);
   if (!options.trace.empty()) check_trace_target(options.trace);
@@ -364,10 +369,8 @@ RefineCounters Solver::Impl::refine(RunState& r, int it, IterationStats& is) {
   if (rc.over_memory)
     throw std::runtime_error(fmt::format(
         "iteration {}: refinement stopped when its elements and links reached {:.3g} GB, "
-        "above the limit of {:.3g} GB (max_memory_gb; 0 means 3/4 of this machine's "
-        "memory): raise eps or min_area, or max_memory_gb",
-        it, static_cast<double>(rc.arena_bytes) / 1e9,
-        static_cast<double>(r.limits.max_bytes) / 1e9));
+        "above {}: raise eps or min_area, or max_memory_gb",
+        it, static_cast<double>(rc.arena_bytes) / 1e9, memory_limit_text(r.limits.max_bytes)));
   if (!o.trace.empty()) r.trace.insert(r.trace.end(), rc.trace.begin(), rc.trace.end());
   is.refine_wall_s = seconds_since(t0) + r.reload_s;
   is.refine_cpu_s = rc.busy_s;

@@ -28,6 +28,9 @@ class RayScene;
 /// max_memory_gb in bytes; 0 gives three quarters of the physical memory (sysconf), and
 /// no limit (0) where that cannot be read.
 std::uint64_t memory_limit_bytes(double gb);
+/// "the limit of L GB (max_memory_gb; ...)": how every check against memory_limit_bytes
+/// names the limit it refuses.
+std::string memory_limit_text(std::uint64_t limit_bytes);
 
 class Solver {
  public:
