@@ -24,14 +24,15 @@ namespace {
 // share (or is a leaf). The subtrees are dealt to the parts, heaviest first, each to the
 // part with the least weight so far, and a part's subtrees are kept in memory order.
 // A sweep then needs two barriers whatever the depth of the hierarchy (and a
-// propagation's sweeps share one parallel region, Sweeper): one thread gathers and pushes the top (a few hundred elements, parents
-// first); each thread then walks its part's subtrees depth first, gathering and pushing
-// an element on the way down and pulling and finishing it on the way up, so an element's
-// lines are touched once per sweep by one core; after a barrier one thread pulls the top,
-// children first. (Level-synchronous sweeps crossed a barrier after every level, down
-// and up: thousands of barriers per run, each waiting for the slowest thread; on a
-// loaded machine a thread that had lost its core held up every level.) A thread handles
-// the same subtrees in every sweep, so they stay in its core's cache.
+// propagation's sweeps share one parallel region, Sweeper): one thread gathers and
+// pushes the top (a few hundred elements, parents first); each thread then goes through
+// its part's elements, laid out one after another (Layout), forwards gathering and
+// pushing, backwards pulling and finishing, so its data are touched by one core; after
+// a barrier one thread pulls the top, children first. (Level-synchronous sweeps crossed
+// a barrier after every level, down and up: thousands of barriers per run, each
+// waiting for the slowest thread; on a loaded machine a thread that had lost its core
+// held up every level.) A thread handles the same subtrees in every sweep, so they stay
+// in its core's cache.
 struct Partition {
   int parts = 1;
   std::vector<Element*> top;            // above the cut, parents before children
@@ -42,7 +43,7 @@ struct Partition {
 constexpr double kElementWeight = 4;  // push + pull + update, in links' worth of work
 constexpr int kSubtreesPerPart = 8;
 
-// Also numbers the elements (Element::index = position in `elements`).
+// Numbers the elements (Element::index = position in `elements`) for its own use.
 Partition partition(const std::vector<Element*>& elements, int threads) {
   Partition p;
   p.parts = std::max(threads, 1);
@@ -106,175 +107,327 @@ double open_gain(const Element& e) {
   return 1.0 / (leaf ? std::max(w, kMinOpenFraction) : w);
 }
 
-void push_one(Element* e, bool cosine) {
-  // Below an input polygon, what its surface chain gathered (the parent's links and
-  // those of its surface ancestors) is shared out by the push weights; what came from
-  // the clusters above passes on as it came (core/solver/push_weights.h). Once pushed, a
-  // surface element's `gathered` holds its surface chain's irradiance for its children.
-  const Element* p = e->parent;
-  if (p && !p->is_cluster() && !e->is_cluster()) {
-    const Rgb chain = e->gathered + static_cast<double>(e->push_weight) * p->gathered;
-    e->next = p->next - p->gathered + chain;
-    e->gathered = chain;
-    return;
-  }
-  e->next = p ? Rgb(e->gathered + p->next) : e->gathered;
-  if (!cosine || !e->parent || !e->parent->is_cluster()) return;
-  const std::array<Rgb, 6>& up = e->parent->light->arriving;
-  if (e->is_cluster()) {
-    for (std::size_t k = 0; k < 6; ++k) e->light->arriving[k] += up[k];
-  } else {
-    // The member's share of each axis direction, as add_by_axis splits its area.
-    const std::array<double, 6> w = axis_shares(e->normal);
-    for (std::size_t k = 0; k < 6; ++k) e->next += w[k] * up[k];
-  }
-}
-
 // How a sweep's leaves move (Chebyshev acceleration, see propagate): B_{k+1} =
 // B_{k-1} + omega (G(B_k) - B_{k-1}), G the plain Jacobi update; omega 1 is the plain
-// sweep. `older` (indexed by Element::index) holds each leaf's B_{k-1} and is updated
+// sweep. `older` (indexed by position, Layout) holds each leaf's B_{k-1} and is updated
 // as the sweep goes; null: plain sweeps, nothing kept.
 struct Relaxation {
   double omega = 1;
   std::vector<Rgb>* older = nullptr;
 };
 
-// A parent's radiosity is the mean of its children's over their open area
-// (core/transport/open_fraction.h): a closed-in part shows no radiosity to anyone.
-// Parents are linear in their leaves, so relaxing the leaves relaxes every element.
-void pull_one(Element& e, const Relaxation& relax) {
-  const auto kids = e.child_span();
-  if (kids.empty()) {
-    e.next = e.emission + e.rho * (static_cast<double>(e.gather_scale) * e.next);
-    if (relax.older) {
-      Rgb& older = (*relax.older)[e.index];
-      const Rgb before = older;
-      older = e.B;
-      if (relax.omega != 1) e.next = before + relax.omega * (e.next - before);
+struct alignas(64) SweepChange {
+  double change = 0, largest = 0;
+};
+
+// The elements in the order a pass visits them: the top first (parents first), then
+// each part's subtrees breadth first. A part is one range of positions, every element
+// comes after its parent, and below the top an element's children are consecutive.
+// Element::index is set to the position: the gather matrix's row and value slot.
+struct Layout {
+  int parts = 1;
+  std::vector<Element*> order;
+  std::size_t top = 0;                  // positions [0, top): the top
+  std::vector<std::size_t> part_begin;  // part t: positions [part_begin[t], part_begin[t + 1])
+};
+
+Layout lay_out(const std::vector<Element*>& elements, int threads) {
+  const Partition p = partition(elements, threads);
+  Layout l;
+  l.parts = p.parts;
+  l.order.reserve(elements.size());
+  l.order.insert(l.order.end(), p.top.begin(), p.top.end());
+  l.top = l.order.size();
+  l.part_begin.push_back(l.top);
+  std::vector<Element*> stack;
+  for (std::size_t t = 0; t < static_cast<std::size_t>(p.parts); ++t) {
+    for (std::size_t r = p.part_begin[t + 1]; r-- > p.part_begin[t];) stack.push_back(p.roots[r]);
+    while (!stack.empty()) {
+      Element* e = stack.back();
+      stack.pop_back();
+      l.order.push_back(e);
+      const std::span<Element> kids = e->child_span();
+      for (std::size_t k = kids.size(); k-- > 0;) stack.push_back(&kids[k]);
     }
-  } else {
-    if (e.is_cluster()) {
+    l.part_begin.push_back(l.order.size());
+  }
+  if (l.order.size() != elements.size())
+    throw std::logic_error("propagation: the element list is not one hierarchy");
+  for (std::size_t i = 0; i < l.order.size(); ++i)
+    l.order[i]->index = static_cast<std::uint32_t>(i);
+  return l;
+}
+
+// What a pass reads and writes of every element, by position (Layout), in dense arrays
+// that it streams through, instead of the elements themselves (456 bytes each, a pass
+// touching four or five of their cache lines in hierarchy order). Built once per
+// propagation from the elements, whose B, gathered and next it writes back at the end
+// (write_back); a cluster's ClusterLight is used where it is.
+class PassState {
+ public:
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  enum Flag : std::uint8_t { kCluster = 1, kLeaf = 2, kChain = 4, kUnderCluster = 8 };
+
+  // The scalars of one element, read together.
+  struct Node {
+    std::uint32_t parent;     // position, kNone at the root
+    std::uint32_t first_kid;  // kids_[first_kid .. next node's first_kid): children
+    std::uint8_t flags;
+    float push_weight;   // Element::push_weight
+    float gather_scale;  // Element::gather_scale
+    double gain;         // open_gain
+    double weight;       // area x open weight: its share of its parent's pull
+    double area;
+  };
+
+  // The layout's structure (parents, children, kinds), then refresh().
+  PassState(const Layout& l, int threads) : layout_(l) {
+    const std::size_t n = l.order.size();
+    node_.resize(n + 1);
+    emission_.resize(n);
+    rho_.resize(n);
+    B_.resize(n);
+    next_.resize(n);
+    gathered_.resize(n);
+    normal_.resize(n);
+    light_.resize(n);
+    // The children's positions, counted first (each element read once in parallel).
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      const Element& e = *l.order[u];
+      Node& d = node_[u];
+      d.parent = e.parent ? e.parent->index : kNone;
+      d.first_kid = e.child_count;  // until the prefix sum below
+      const bool cluster = e.is_cluster(), parent_cluster = e.parent && e.parent->is_cluster();
+      d.flags = static_cast<std::uint8_t>((cluster ? kCluster : 0) |
+                                          (e.child_span().empty() ? kLeaf : 0) |
+                                          (e.parent && !parent_cluster && !cluster ? kChain : 0) |
+                                          (parent_cluster ? kUnderCluster : 0));
+    }
+    std::uint32_t kids = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t count = node_[i].first_kid;
+      node_[i].first_kid = kids;
+      kids += count;
+    }
+    node_[n].first_kid = kids;
+    kids_.resize(kids);
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      std::uint32_t* k = kids_.data() + node_[u].first_kid;
+      for (const Element& c : l.order[u]->child_span()) *k++ = c.index;
+    }
+    refresh(threads);
+  }
+
+  /// Reads what may have changed since the last pass on the same hierarchy from the
+  /// elements (push weights, row-sum scales, open fractions, radiosity; emission and
+  /// reflectance too), numbers them again (another pass may have), and sums the
+  /// clusters' open areas.
+  void refresh(int threads) {
+    const std::vector<Element*>& order = layout_.order;
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(order.size()); ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      Element& e = *order[u];
+      Node& d = node_[u];
+      e.index = static_cast<std::uint32_t>(u);
+      d.push_weight = e.push_weight;
+      d.gather_scale = e.gather_scale;
+      d.gain = open_gain(e);
+      d.weight = e.area * open_weight(e);
+      d.area = e.area;
+      emission_[u] = e.emission;
+      rho_[u] = e.rho;
+      B_[u] = e.B;
+      normal_[u] = e.normal;
+      if (e.is_cluster() && !e.light) e.light = std::make_unique<ClusterLight>();
+      light_[u] = e.light.get();
+    }
+    prepare_clusters(threads);
+  }
+
+  [[nodiscard]] const Layout& layout() const { return layout_; }
+  [[nodiscard]] std::size_t size() const { return B_.size(); }
+  [[nodiscard]] bool cluster(std::size_t i) const { return (node_[i].flags & kCluster) != 0; }
+  [[nodiscard]] const Rgb& B(std::size_t i) const { return B_[i]; }
+  [[nodiscard]] ClusterLight* light(std::size_t i) const { return light_[i]; }
+  [[nodiscard]] double gain(std::size_t i) const { return node_[i].gain; }
+  Rgb& gathered(std::size_t i) { return gathered_[i]; }
+
+  /// The push (one element, its parent done): below an input polygon, what its surface
+  /// chain gathered (the parent's links and those of its surface ancestors) is shared
+  /// out by the push weights; what came from the clusters above passes on as it came
+  /// (core/solver/push_weights.h). Once pushed, a surface element's `gathered` holds its
+  /// surface chain's irradiance for its children.
+  void push(std::size_t i, bool cosine) {
+    const Node& d = node_[i];
+    if (d.parent == kNone) {
+      next_[i] = gathered_[i];
+      return;
+    }
+    const std::size_t p = d.parent;
+    if ((d.flags & kChain) != 0) {
+      const Rgb chain = gathered_[i] + static_cast<double>(d.push_weight) * gathered_[p];
+      next_[i] = next_[p] - gathered_[p] + chain;
+      gathered_[i] = chain;
+      return;
+    }
+    next_[i] = gathered_[i] + next_[p];
+    if (!cosine || (d.flags & kUnderCluster) == 0) return;
+    const std::array<Rgb, 6>& up = light_[p]->arriving;
+    if ((d.flags & kCluster) != 0) {
+      for (std::size_t k = 0; k < 6; ++k) light_[i]->arriving[k] += up[k];
+    } else {
+      // The member's share of each axis direction, as add_by_axis splits its area.
+      const std::array<double, 6> w = axis_shares(normal_[i]);
+      for (std::size_t k = 0; k < 6; ++k) next_[i] += w[k] * up[k];
+    }
+  }
+
+  /// The pull (one element, its children done). A parent's radiosity is the mean of its
+  /// children's over their open area (core/transport/open_fraction.h): a closed-in part
+  /// shows no radiosity to anyone. Parents are linear in their leaves, so relaxing the
+  /// leaves relaxes every element.
+  void pull(std::size_t i, const Relaxation& relax) {
+    const Node& d = node_[i];
+    if ((d.flags & kLeaf) != 0) {
+      next_[i] = emission_[i] + rho_[i] * (static_cast<double>(d.gather_scale) * next_[i]);
+      if (relax.older) {
+        Rgb& older = (*relax.older)[i];
+        const Rgb before = older;
+        older = B_[i];
+        if (relax.omega != 1) next_[i] = before + relax.omega * (next_[i] - before);
+      }
+      return;
+    }
+    const std::uint32_t* kid = kids_.data() + d.first_kid;
+    const std::uint32_t* const end = kids_.data() + node_[i + 1].first_kid;
+    if ((d.flags & kCluster) != 0) {
       // What leaves the cluster along each axis direction (see ClusterLight).
-      ClusterLight& cl = *e.light;
-      cl.leaving_next.fill(Rgb::Zero());
-      for (const Element& k : kids) {
-        if (k.is_cluster()) {
-          for (std::size_t j = 0; j < 6; ++j) cl.leaving_next[j] += k.light->leaving_next[j];
+      std::array<Rgb, 6>& leaving = light_[i]->leaving_next;
+      leaving.fill(Rgb::Zero());
+      for (const std::uint32_t* k = kid; k != end; ++k) {
+        if (cluster(*k)) {
+          for (std::size_t j = 0; j < 6; ++j) leaving[j] += light_[*k]->leaving_next[j];
         } else {
-          add_by_axis(cl.leaving_next, k.normal, Rgb(k.area * open_weight(k) * k.next));
+          add_by_axis(leaving, normal_[*k], Rgb(node_[*k].weight * next_[*k]));
         }
       }
     }
     Rgb sum = Rgb::Zero();
     double open_area = 0;
-    for (const Element& k : kids) {
-      const double w = k.area * open_weight(k);
-      sum += w * k.next;
-      open_area += w;
+    for (const std::uint32_t* k = kid; k != end; ++k) {
+      sum += node_[*k].weight * next_[*k];
+      open_area += node_[*k].weight;
     }
     if (open_area > 0) {
-      e.next = sum / open_area;
+      next_[i] = sum / open_area;
     } else {  // wholly closed in: the plain mean (nobody sees it either way)
       sum = Rgb::Zero();
-      for (const Element& k : kids) sum += k.area * k.next;
-      e.next = e.area > 0 ? Rgb(sum / e.area) : Rgb::Zero();
+      for (const std::uint32_t* k = kid; k != end; ++k) sum += node_[*k].area * next_[*k];
+      next_[i] = d.area > 0 ? Rgb(sum / d.area) : Rgb::Zero();
     }
   }
-}
 
-// Gathers at one element the transport of its own links, in `gathered` (or, for a
-// cluster in Cosine mode, split along the axes into `light->arriving`): in channel 0 per
-// unit of area, in channels 1 and 2 per unit of open area (core/transport/open_fraction.h),
-// so that one pass gives the row sums both ways (core/solver/row_sums.h).
-void gather_transport(Element& e, bool cosine) {
-  if (cosine && e.is_cluster()) {
-    // Undo the link's mean cosine and split the irradiance a unit surface facing the
-    // source would get along the axes. The mean cosine is over the members' area, or
-    // their open area, so the members (their open parts) receive in total what the link
-    // delivers to the cluster.
-    std::array<Rgb, 6>& dir = e.light->arriving;
-    dir.fill(Rgb::Zero());
-    for (const Link& l : e.links) {
-      const Vec3 d = (l.source->center - e.center).normalized();
-      const double whole = e.projected_area(d), open = e.light->projected_open_area(d);
-      const double t = l.transport();
-      const double per_whole = whole > 0 ? t * (e.area / whole) : 0.0;
-      const double per_open = open > 0 ? t * (e.area / open) : 0.0;
-      const Rgb facing(per_whole, per_open, per_open);
-      for (int a = 0; a < 3; ++a)
-        dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
+  /// The last step of an element's sweep, once its `next` is final: B <- next (and the
+  /// cluster's directional sums), with the change recorded.
+  void finish(std::size_t i, SweepChange& c) {
+    c.change = std::max(c.change, (next_[i] - B_[i]).abs().maxCoeff());
+    c.largest = std::max(c.largest, next_[i].abs().maxCoeff());
+    B_[i] = next_[i];
+    if (ClusterLight* cl = light_[i]) {
+      cl->leaving = cl->leaving_next;
+      cl->leaving_made = true;
     }
-    e.gathered = Rgb::Zero();
-    return;
   }
-  double g = 0;
-  for (const Link& l : e.links) g += l.transport();
-  const double open = open_gain(e) * g;
-  e.gathered = Rgb(g, open, open);
-}
 
-struct alignas(64) SweepChange {
-  double change = 0, largest = 0;
+  /// Hands the elements their B, gathered and next.
+  void write_back(int threads) const {
+    const auto n = static_cast<std::ptrdiff_t>(size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      Element& e = *layout_.order[u];
+      e.B = B_[u];
+      e.gathered = gathered_[u];
+      e.next = next_[u];
+    }
+  }
+
+ private:
+  // Every cluster's members' open area by axis direction, children before parents:
+  // each part in parallel, then the top.
+  void prepare_clusters(int threads) {
+    const auto prepare = [&](std::size_t i) {
+      if (!cluster(i)) return;
+      std::array<double, 6>& oa = light_[i]->open_area;
+      oa.fill(0);
+      for (std::uint32_t j = node_[i].first_kid; j < node_[i + 1].first_kid; ++j) {
+        const std::uint32_t k = kids_[j];
+        if (cluster(k)) {
+          for (std::size_t a = 0; a < 6; ++a) oa[a] += light_[k]->open_area[a];
+        } else {
+          add_by_axis(oa, normal_[k], node_[k].weight);
+        }
+      }
+    };
+    const Layout& l = layout_;
+#pragma omp parallel for num_threads(std::min(threads, l.parts)) schedule(dynamic, 1)
+    for (int t = 0; t < l.parts; ++t)
+      for (std::size_t i = l.part_begin[static_cast<std::size_t>(t) + 1];
+           i-- > l.part_begin[static_cast<std::size_t>(t)];)
+        prepare(i);
+    for (std::size_t i = l.top; i-- > 0;) prepare(i);
+  }
+
+  const Layout& layout_;
+  std::vector<Node> node_;  // one more than elements: the end of the last one's children
+  std::vector<std::uint32_t> kids_;
+  std::vector<Rgb> emission_, rho_, B_, next_, gathered_;
+  std::vector<Vec3> normal_;
+  std::vector<ClusterLight*> light_;
 };
 
-// The last step of an element's sweep, once its `next` is final: B <- next (and the
-// cluster's directional sums), with the change recorded.
-void finish_one(Element& e, SweepChange& c) {
-  c.change = std::max(c.change, (e.next - e.B).abs().maxCoeff());
-  c.largest = std::max(c.largest, e.next.abs().maxCoeff());
-  e.B = e.next;
-  if (e.light) {
-    e.light->leaving = e.light->leaving_next;
-    e.light->leaving_made = true;
-  }
-}
-
 // A pass over the hierarchy (see Partition), in three pieces: one thread gathers and
-// pushes the top (top_down); then every thread of the team does its parts' subtrees
-// (subtrees); with a full pass, one thread then pulls and finishes the top (top_up).
-// The team meets at a barrier between the pieces. An element is finished (finish_one,
-// then `stored(e)`) as soon as its pull is done, its largest change and radiosity
-// recorded in per_part[its part] (the top's in per_part.back()). `gather` must read
-// nothing that `stored` or finish_one write in the same pass (the sweeper reads last
-// sweep's values and stores into the next's). A team smaller than the parts takes
-// several parts each.
+// pushes the top (down over its positions); then every thread of the team does its
+// parts (down over each part's positions, with a full pass then up over them); with a
+// full pass, one thread then pulls and finishes the top (up over its positions). The
+// team meets at a barrier between the pieces. An element is finished (then
+// `stored(i)`) as soon as its pull is done, its largest change and radiosity recorded
+// in per_part[its part] (the top's in per_part.back()). `gather` must read nothing
+// that `stored` or finish write in the same pass (the sweeper reads last sweep's
+// values and stores into the next's). A team smaller than the parts takes several
+// parts each.
 template <class Gather>
-void top_down(const Partition& p, bool cosine, const Gather& gather) {
-  for (Element* e : p.top) {
-    gather(*e);
-    push_one(e, cosine);
+void down(PassState& s, std::size_t begin, std::size_t end, bool cosine, const Gather& gather) {
+  for (std::size_t i = begin; i < end; ++i) {
+    gather(i);
+    s.push(i, cosine);
   }
 }
 
 template <class Stored>
-void top_up(const Partition& p, const Relaxation& relax, const Stored& stored, SweepChange& c) {
-  for (auto it = p.top.rbegin(); it != p.top.rend(); ++it) {
-    pull_one(**it, relax);
-    finish_one(**it, c);
-    stored(**it);
+void up(PassState& s, std::size_t begin, std::size_t end, const Relaxation& relax,
+        const Stored& stored, SweepChange& c) {
+  for (std::size_t i = end; i-- > begin;) {
+    s.pull(i, relax);
+    s.finish(i, c);
+    stored(i);
   }
 }
 
-// The subtrees of this thread's parts: gather and push on the way down, with `full`
-// pull and finish on the way up.
 template <class Gather, class Stored>
-void subtrees(const Partition& p, bool cosine, bool full, const Relaxation& relax,
-              const Gather& gather, const Stored& stored, int me, int team,
-              std::vector<SweepChange>& per_part) {
-  const auto descend = [&](auto&& self, Element& e, SweepChange& c) -> void {
-    gather(e);
-    push_one(&e, cosine);
-    for (Element& k : e.child_span()) self(self, k, c);
-    if (!full) return;
-    pull_one(e, relax);
-    finish_one(e, c);
-    stored(e);
-  };
-  for (int t = me; t < p.parts; t += team) {
-    SweepChange& c = per_part[static_cast<std::size_t>(t)];
-    for (std::size_t i = p.part_begin[static_cast<std::size_t>(t)];
-         i < p.part_begin[static_cast<std::size_t>(t) + 1]; ++i)
-      descend(descend, *p.roots[i], c);
+void parts(PassState& s, bool cosine, bool full, const Relaxation& relax, const Gather& gather,
+           const Stored& stored, int me, int team, std::vector<SweepChange>& per_part) {
+  const Layout& l = s.layout();
+  for (int t = me; t < l.parts; t += team) {
+    const std::size_t begin = l.part_begin[static_cast<std::size_t>(t)];
+    const std::size_t end = l.part_begin[static_cast<std::size_t>(t) + 1];
+    down(s, begin, end, cosine, gather);
+    if (full) up(s, begin, end, relax, stored, per_part[static_cast<std::size_t>(t)]);
   }
 }
 
@@ -302,34 +455,34 @@ SweepChange take_total(std::vector<SweepChange>& per_part) {
   return total;
 }
 
-// Allocates every cluster's ClusterLight and sums its members' open area by axis
-// direction, children before parents: each part's subtrees in parallel, then the top.
-void prepare_cluster(Element& e) {
-  if (!e.is_cluster()) return;
-  if (!e.light) e.light = std::make_unique<ClusterLight>();
-  std::array<double, 6>& oa = e.light->open_area;
-  oa.fill(0);
-  for (const Element& k : e.child_span()) {
-    if (k.is_cluster()) {
-      for (std::size_t j = 0; j < 6; ++j) oa[j] += k.light->open_area[j];
-    } else {
-      add_by_axis(oa, k.normal, k.area * open_weight(k));
+// The transport of one element's own links (or, for a cluster in Cosine mode, zero,
+// and the transport split along the axes into `light->arriving`): in channel 0 per
+// unit of area, in channels 1 and 2 per unit of open area (core/transport/open_fraction.h),
+// so that one pass gives the row sums both ways (core/solver/row_sums.h).
+Rgb transport_gathered(Element& e, bool cosine) {
+  if (cosine && e.is_cluster()) {
+    // Undo the link's mean cosine and split the irradiance a unit surface facing the
+    // source would get along the axes. The mean cosine is over the members' area, or
+    // their open area, so the members (their open parts) receive in total what the link
+    // delivers to the cluster.
+    std::array<Rgb, 6>& dir = e.light->arriving;
+    dir.fill(Rgb::Zero());
+    for (const Link& l : e.links) {
+      const Vec3 d = (l.source->center - e.center).normalized();
+      const double whole = e.projected_area(d), open = e.light->projected_open_area(d);
+      const double t = l.transport();
+      const double per_whole = whole > 0 ? t * (e.area / whole) : 0.0;
+      const double per_open = open > 0 ? t * (e.area / open) : 0.0;
+      const Rgb facing(per_whole, per_open, per_open);
+      for (int a = 0; a < 3; ++a)
+        dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
     }
+    return Rgb::Zero();
   }
-}
-
-void prepare_clusters(const Partition& p) {
-  const auto below = [](auto&& self, Element& e) -> void {
-    if (!e.is_cluster()) return;  // no cluster below a surface
-    for (Element& k : e.child_span()) self(self, k);
-    prepare_cluster(e);
-  };
-#pragma omp parallel for num_threads(p.parts) schedule(dynamic, 1)
-  for (int t = 0; t < p.parts; ++t)
-    for (std::size_t i = p.part_begin[static_cast<std::size_t>(t)];
-         i < p.part_begin[static_cast<std::size_t>(t) + 1]; ++i)
-      below(below, *p.roots[i]);
-  for (auto it = p.top.rbegin(); it != p.top.rend(); ++it) prepare_cluster(**it);
+  double g = 0;
+  for (const Link& l : e.links) g += l.transport();
+  const double open = open_gain(e) * g;
+  return Rgb(g, open, open);
 }
 
 template <class V>
@@ -358,7 +511,8 @@ V channels(const Rgb& x) {
 // floats, like the links' form factor and visibility they come from.
 class GatherMatrix {
  public:
-  // `elements` parents before children, clusters prepared (prepare_clusters).
+  // `elements` in pass order (Layout: Element::index is the position), clusters
+  // prepared (PassState).
   GatherMatrix(const std::vector<Element*>& elements, int threads, bool cosine)
       : cosine_(cosine), first_row_(elements.size() + 1, 0) {
     const auto n = static_cast<std::ptrdiff_t>(elements.size());
@@ -367,8 +521,7 @@ class GatherMatrix {
     // over dense arrays: axis_ holds 1 for a cluster until then.
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
-      Element& e = *elements[static_cast<std::size_t>(i)];
-      e.index = static_cast<std::uint32_t>(i);
+      const Element& e = *elements[static_cast<std::size_t>(i)];
       axis_[static_cast<std::size_t>(i)] = e.is_cluster() ? 1 : 0;
       first_row_[static_cast<std::size_t>(i) + 1] = rows_of(e);
     }
@@ -428,42 +581,48 @@ class GatherMatrix {
 
   [[nodiscard]] std::size_t slots() const { return slots_; }
 
-  /// Writes element e's slots of `values` from its B and directional sums.
+  /// Writes the slots of `values` of the element at position i from its B and
+  /// directional sums.
   template <class V>
-  void store(const Element& e, std::vector<V>& values) const {
-    values[e.index] = channels<V>(e.B);
-    if (!e.is_cluster()) return;
-    const ClusterLight& cl = *e.light;
+  void store(const PassState& s, std::size_t i, std::vector<V>& values) const {
+    values[i] = channels<V>(s.B(i));
+    if (!s.cluster(i)) return;
+    const ClusterLight& cl = *s.light(i);
     for (std::size_t k = 0; k < 6; ++k)
-      values[axis_[e.index] + k] = cl.leaving_made && cl.open_area[k] > 0
-                                       ? channels<V>(cl.leaving[k] / cl.open_area[k])
-                                       : channels<V>(e.B);
+      values[axis_[i] + k] = cl.leaving_made && cl.open_area[k] > 0
+                                 ? channels<V>(cl.leaving[k] / cl.open_area[k])
+                                 : channels<V>(s.B(i));
   }
 
-  /// Row k of element e times `values`: with one row per element (k = 0), the
-  /// irradiance e's own links deliver; for a cosine cluster receiver, what arrives
-  /// along axis direction k.
+  /// Row k of the element at position i times `values`: with one row per element
+  /// (k = 0), the irradiance its own links deliver; for a cosine cluster receiver, what
+  /// arrives along axis direction k.
   template <class V>
-  [[nodiscard]] V gather(const Element& e, const std::vector<V>& values, std::size_t k = 0) const {
+  [[nodiscard]] V gather(std::size_t i, const std::vector<V>& values, std::size_t k = 0) const {
     V g = channels<V>(Rgb::Zero());
-    const Chunk& chunk = chunks_[e.index / kChunk];
-    const std::size_t r = first_row_[e.index] + k - first_row_[e.index / kChunk * kChunk];
+    const Chunk& chunk = chunks_[i / kChunk];
+    const std::size_t r = first_row_[i] + k - first_row_[i / kChunk * kChunk];
     const Entry* entry = chunk.entries.data();
     for (std::size_t j = chunk.row[r]; j < chunk.row[r + 1]; ++j)
       g += static_cast<double>(entry[j].weight) * values[entry[j].slot];
     return g;
   }
 
-  /// Whether e's rows are the six axis directions (a cluster, cosine receivers).
-  [[nodiscard]] bool by_axis(const Element& e) const { return cosine_ && e.is_cluster(); }
+  /// Whether the rows of the element at position i are the six axis directions (a
+  /// cluster, cosine receivers).
+  [[nodiscard]] bool by_axis(const PassState& s, std::size_t i) const {
+    return cosine_ && s.cluster(i);
+  }
 
  private:
-  [[nodiscard]] std::size_t rows_of(const Element& e) const { return by_axis(e) ? 6 : 1; }
+  [[nodiscard]] std::size_t rows_of(const Element& e) const {
+    return cosine_ && e.is_cluster() ? 6 : 1;
+  }
 
   // Calls emit(row k of e, slot, weight) for each entry of link l at receiver e.
   template <class Emit>
   void entries(const Element& e, const Link& l, const Emit& emit) const {
-    if (!by_axis(e)) {
+    if (rows_of(e) == 1) {
       source_entries(e, l, [&](std::uint32_t c, double w) { emit(0, c, w); });
       return;
     }
@@ -527,20 +686,20 @@ class GatherMatrix {
   std::size_t slots_ = 0;
 };
 
-// What a propagation keeps from sweep to sweep: the partition, the gather matrix and its
-// values (one channel in a grey scene), twice: a sweep gathers from the last sweep's
-// and stores into the other, since one thread may finish an element while another
-// still gathers from it. run() does all the sweeps in one parallel region, the team
-// meeting at two TeamBarrier waits per sweep and at no OpenMP barrier.
+// What a propagation keeps from sweep to sweep: the layout, the pass state, the gather
+// matrix and its values (one channel in a grey scene), twice: a sweep gathers from the
+// last sweep's and stores into the other, since one thread may finish an element while
+// another still gathers from it. run() does all the sweeps in one parallel region, the
+// team meeting at two TeamBarrier waits per sweep and at no OpenMP barrier, and hands
+// the elements their radiosity at the end.
 class Sweeper {
  public:
-  Sweeper(const std::vector<Element*>& elements, int threads, ClusterReceiver mode, bool grey)
-      : elements_(elements),
-        parts_(partition(elements, threads)),
+  Sweeper(PassState& state, int threads, ClusterReceiver mode, bool grey)
+      : layout_(state.layout()),
+        state_(state),
+        matrix_(layout_.order, threads, mode == ClusterReceiver::Cosine),
         cosine_(mode == ClusterReceiver::Cosine),
         grey_(grey) {
-    prepare_clusters(parts_);
-    matrix_.emplace(elements, threads, cosine_);
     if (grey_) {
       init(channel0_);
     } else {
@@ -552,7 +711,7 @@ class Sweeper {
   /// starts keeping each leaf's previous radiosity. Called from after_sweep.
   void relax(double omega) {
     if (!relax_.older) {
-      older_.assign(elements_.size(), Rgb::Zero());
+      older_.assign(state_.size(), Rgb::Zero());
       relax_.older = &older_;
     }
     relax_.omega = omega;
@@ -562,6 +721,7 @@ class Sweeper {
 
   /// Sweeps until after_sweep(largest change and radiosity of the sweep) returns false;
   /// after_sweep runs on the calling thread (the team's thread 0) while the others wait.
+  /// Then the elements get their B (and gathered, next).
   template <class After>
   void run(const After& after_sweep) {
     if (grey_) {
@@ -569,6 +729,7 @@ class Sweeper {
     } else {
       run_with(colour_, after_sweep);
     }
+    state_.write_back(layout_.parts);
   }
 
  private:
@@ -582,52 +743,55 @@ class Sweeper {
   }
   template <class V>
   void init(std::array<std::vector<V>, 2>& values) {
-    for (std::vector<V>& v : values) v.resize(matrix_->slots());
-    const auto n = static_cast<std::ptrdiff_t>(elements_.size());
-#pragma omp parallel for num_threads(parts_.parts) schedule(static)
+    for (std::vector<V>& v : values) v.resize(matrix_.slots());
+    const auto n = static_cast<std::ptrdiff_t>(state_.size());
+#pragma omp parallel for num_threads(layout_.parts) schedule(static)
     for (std::ptrdiff_t i = 0; i < n; ++i)
-      matrix_->store(*elements_[static_cast<std::size_t>(i)], values[0]);
+      matrix_.store(state_, static_cast<std::size_t>(i), values[0]);
   }
   template <class V, class After>
   void run_with(std::array<std::vector<V>, 2>& buffers, const After& after_sweep) {
-    const GatherMatrix& m = *matrix_;
+    const GatherMatrix& m = matrix_;
+    PassState& s = state_;
     const std::vector<V>& values = buffers[0];  // swapped after each sweep
     std::vector<V>& next = buffers[1];
-    const auto gather = [&](Element& e) {
-      if (m.by_axis(e)) {  // a cosine cluster receiver: what arrives along each axis
-        for (std::size_t k = 0; k < 6; ++k) e.light->arriving[k] = as_rgb(m.gather(e, values, k));
-        e.gathered = Rgb::Zero();
+    const auto gather = [&](std::size_t i) {
+      if (m.by_axis(s, i)) {  // a cosine cluster receiver: what arrives along each axis
+        for (std::size_t k = 0; k < 6; ++k)
+          s.light(i)->arriving[k] = as_rgb(m.gather(i, values, k));
+        s.gathered(i) = Rgb::Zero();
         return;
       }
-      e.gathered = open_gain(e) * as_rgb(m.gather(e, values));
+      s.gathered(i) = s.gain(i) * as_rgb(m.gather(i, values));
     };
-    const auto store = [&](const Element& e) { m.store(e, next); };
-    std::vector<SweepChange> per_part(static_cast<std::size_t>(parts_.parts) + 1);
+    const auto store = [&](std::size_t i) { m.store(s, i, next); };
+    const std::size_t top = layout_.top;
+    std::vector<SweepChange> per_part(static_cast<std::size_t>(layout_.parts) + 1);
     bool more = true;  // written by thread 0 between barriers
-    in_team(parts_.parts, [&](int me, int team, TeamBarrier& barrier) {
+    in_team(layout_.parts, [&](int me, int team, TeamBarrier& barrier) {
       // Two barriers a sweep: thread 0 ends one sweep (the top's pull, the bookkeeping)
       // and starts the next (the top's push) between the same two.
-      if (me == 0) top_down(parts_, cosine_, gather);
+      if (me == 0) down(s, 0, top, cosine_, gather);
       barrier.wait();
       while (more) {
-        subtrees(parts_, cosine_, true, relax_, gather, store, me, team, per_part);
+        parts(s, cosine_, true, relax_, gather, store, me, team, per_part);
         barrier.wait();
         if (me == 0) {
-          top_up(parts_, relax_, store, per_part.back());
+          up(s, 0, top, relax_, store, per_part.back());
           std::swap(buffers[0], buffers[1]);  // every slot was stored: the sweep's result
           more = after_sweep(take_total(per_part));
-          if (more) top_down(parts_, cosine_, gather);
+          if (more) down(s, 0, top, cosine_, gather);
         }
         barrier.wait();
       }
     });
   }
 
-  const std::vector<Element*>& elements_;
-  Partition parts_;
+  const Layout& layout_;
+  PassState& state_;
+  GatherMatrix matrix_;
   bool cosine_;
   bool grey_;
-  std::optional<GatherMatrix> matrix_;
   std::vector<Rgb> older_;  // Relaxation::older
   Relaxation relax_;
   std::array<std::vector<Rgb>, 2> colour_;
@@ -660,37 +824,70 @@ double relative(const SweepChange& c) { return c.largest > 0 ? c.change / c.larg
 
 }  // namespace
 
-void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode, int threads) {
+// The layout and pass state of the last pass, kept while its elements are the same.
+struct PropagationCache::Impl {
+  std::vector<Element*> elements;
+  std::optional<Layout> layout;
+  std::optional<PassState> state;
+
+  PassState& prepare(const std::vector<Element*>& list, int threads) {
+    if (state && layout->parts == std::max(threads, 1) && list == elements) {
+      state->refresh(threads);
+      return *state;
+    }
+    state.reset();
+    layout.reset();
+    elements.clear();
+    layout.emplace(lay_out(list, threads));
+    state.emplace(*layout, threads);
+    elements = list;
+    return *state;
+  }
+};
+
+PropagationCache::PropagationCache() : impl_(std::make_unique<Impl>()) {}
+PropagationCache::~PropagationCache() = default;
+
+void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
+                    PropagationCache* cache) {
   const bool cosine = mode == ClusterReceiver::Cosine;
-  const Partition p = partition(elements, threads);
-  prepare_clusters(p);
-  std::vector<SweepChange> per_part(static_cast<std::size_t>(p.parts) + 1);
-  const auto gather = [&](Element& e) { gather_transport(e, cosine); };
-  const auto none = [](const Element&) {};
-  in_team(p.parts, [&](int me, int team, TeamBarrier& barrier) {
-    if (me == 0) top_down(p, cosine, gather);
+  PropagationCache own;
+  PassState& s = (cache ? *cache : own).impl_->prepare(elements, threads);
+  const Layout& l = s.layout();
+  std::vector<SweepChange> per_part(static_cast<std::size_t>(l.parts) + 1);
+  const auto gather = [&](std::size_t i) {
+    s.gathered(i) = transport_gathered(*l.order[i], cosine);
+  };
+  const auto none = [](std::size_t) {};
+  in_team(l.parts, [&](int me, int team, TeamBarrier& barrier) {
+    if (me == 0) down(s, 0, l.top, cosine, gather);
     barrier.wait();
-    subtrees(p, cosine, false, Relaxation{}, gather, none, me, team, per_part);
+    parts(s, cosine, false, Relaxation{}, gather, none, me, team, per_part);
   });
+  s.write_back(l.parts);
 }
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads, ClusterReceiver mode,
                          bool grey) {
   double change = 0;
-  Sweeper(elements, threads, mode, grey).run([&](const SweepChange& s) {
-    change = relative(s);
-    return false;
-  });
+  PropagationCache own;
+  Sweeper(own.impl_->prepare(elements, threads), threads, mode, grey)
+      .run([&](const SweepChange& s) {
+        change = relative(s);
+        return false;
+      });
   return change;
 }
 
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance, int max_sweeps,
                             int threads, ClusterReceiver mode, bool grey,
                             const std::function<void(int sweeps, double change)>& on_sweep,
-                            double contraction) {
+                            double contraction, PropagationCache* cache) {
   PropagationResult r;
   if (max_sweeps < 1 || interrupted()) return r;
-  Sweeper sweeper(elements, threads, mode, grey);  // links do not change here
+  PropagationCache own;
+  Sweeper sweeper((cache ? *cache : own).impl_->prepare(elements, threads), threads, mode,
+                  grey);  // links do not change here
   double previous = 0, previous_change = 0, previous_q = 0;
   int growing = 0;
   // Chebyshev acceleration over [-a, a], a the plain sweeps' contraction (given, or

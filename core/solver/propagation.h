@@ -35,6 +35,7 @@
 #include "core/hierarchy/element.h"
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -62,12 +63,34 @@ inline constexpr double kMaxContraction = 0.995;
 // ClusterReceiver (how a cluster receiver hands what it gathers to its members) is an
 // option: core/config/modes.h.
 
+/// What a run's passes (push_transport, propagate) keep from one to the next: the
+/// elements' order for a pass and what a pass reads of them, in dense arrays. Kept while
+/// the elements are the same (the same list, so the same hierarchy) and then only
+/// refreshed from them; made again otherwise. A pass given none makes its own.
+class PropagationCache {
+ public:
+  PropagationCache();
+  ~PropagationCache();
+  PropagationCache(const PropagationCache&) = delete;
+  PropagationCache& operator=(const PropagationCache&) = delete;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  friend void push_transport(const std::vector<Element*>&, ClusterReceiver, int, PropagationCache*);
+  friend PropagationResult propagate(const std::vector<Element*>&, double, int, int,
+                                     ClusterReceiver, bool, const std::function<void(int, double)>&,
+                                     double, PropagationCache*);
+  friend double propagation_sweep(const std::vector<Element*>&, int, ClusterReceiver, bool);
+};
+
 /// Gather + push of the links' transport (the row sums, core/solver/row_sums.h): sets
 /// `next` of every element to the total transport it receives from its own and its
 /// ancestors' links, pushed as the propagation pushes irradiance: in channel 0 per unit
 /// of area, in channels 1 and 2 per unit of open area, as the propagation gathers
 /// (core/transport/open_fraction.h). `elements` lists parents before children.
-void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode, int threads);
+void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
+                    PropagationCache* cache = nullptr);
 
 /// `elements` must list parents before children and hold every element a link refers
 /// to (Hierarchy::elements()).
@@ -79,11 +102,12 @@ void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode,
 /// sweeps done and the last relative change (the progress line).
 /// `contraction`: an earlier propagation's PropagationResult::contraction, to accelerate
 /// from the first sweep; 0 to measure it here; negative for plain sweeps only.
+/// `cache`: the run's PropagationCache, when it has one.
 PropagationResult propagate(const std::vector<Element*>& elements, double tolerance, int max_sweeps,
                             int threads, ClusterReceiver mode = ClusterReceiver::Isotropic,
                             bool grey = false,
                             const std::function<void(int sweeps, double change)>& on_sweep = {},
-                            double contraction = 0);
+                            double contraction = 0, PropagationCache* cache = nullptr);
 
 /// One Jacobi sweep (gather + push-pull), B <- B'; returns the relative change.
 double propagation_sweep(const std::vector<Element*>& elements, int threads,

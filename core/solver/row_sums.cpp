@@ -54,13 +54,14 @@ double estimate_escape(const Element& e, const Hierarchy& h, const RayScene& ray
 
 RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
                            ClusterReceiver receiver, const Hierarchy& hierarchy,
-                           const RayScene& rays, int escape_rays, std::uint64_t seed, int threads) {
+                           const RayScene& rays, int escape_rays, std::uint64_t seed, int threads,
+                           PropagationCache* cache) {
   RowSumStats st;
   // Push the transport totals down like irradiance from a unit radiosity, per unit of
   // area as the links give it (channel 0) and per unit of open area as the propagation
   // gathers (channel 1; the same when nothing is closed in). `next` is scratch here
   // (propagation overwrites it).
-  push_transport(elements, receiver, threads);
+  push_transport(elements, receiver, threads, cache);
   std::vector<Element*> leaves;
   double area = 0;
   st.min = std::numeric_limits<double>::infinity();

@@ -51,8 +51,10 @@ struct RowSumStats {
 
 /// Sets every element's gather_scale (parents before children in `elements`).
 /// `receiver` must be the propagation's, so that the sums are what the leaves gather.
+/// `cache`: the run's PropagationCache (core/solver/propagation.h), when it has one.
 RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
                            ClusterReceiver receiver, const Hierarchy& hierarchy,
-                           const RayScene& rays, int escape_rays, std::uint64_t seed, int threads);
+                           const RayScene& rays, int escape_rays, std::uint64_t seed, int threads,
+                           PropagationCache* cache = nullptr);
 
 }  // namespace hrad

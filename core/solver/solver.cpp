@@ -160,6 +160,9 @@ struct Solver::Impl {
   /// Kept across iterations: with push_visibility = child it holds the children's own
   /// visibilities for the next iteration's update (core/solver/push_weights.h).
   PushWeights push_weights;
+  /// Kept across the row sums and propagations while the hierarchy is the same: their
+  /// passes' layout and state (core/solver/propagation.h).
+  PropagationCache propagation_cache;
   double setup_s = 0;  ///< the constructor's wall time (set by Solver::Solver)
 
   Impl(const Scene& s, const SolverOptions& o, ProgressFn p)
@@ -434,7 +437,7 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   is.open_rays = open.rays_cast;
   is.open_area_fraction = open.area_fraction;
   const RowSumStats rs = apply_row_sums(elements, row_sum_mode, receiver_mode, hierarchy, rays,
-                                        o.row_sum_rays, o.seed, o.threads);
+                                        o.row_sum_rays, o.seed, o.threads, &propagation_cache);
   is.rays_cast += rs.rays_cast;
   is.row_sum_min = rs.min;
   is.row_sum_max = rs.max;
@@ -464,7 +467,7 @@ void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<E
   const auto sweeps_start = Clock::now();
   const PropagationResult pr = propagate(
       elements, last ? o.gather_tolerance : std::max(o.gather_tolerance, kIntermediateTolerance),
-      r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep, r.contraction);
+      r.max_sweeps, o.threads, receiver_mode, r.grey, on_sweep, r.contraction, &propagation_cache);
   is.sweeps_s = seconds_since(sweeps_start);
   r.contraction = pr.contraction;
   is.contraction = pr.accelerated ? pr.contraction : 0.0;

@@ -1,0 +1,133 @@
+// The propagation's cache (core/solver/propagation.h): passes that keep their layout and
+// dense state between them give the same results, bit for bit, as passes that make
+// their own, after what a run changes between passes (push weights, row-sum scales,
+// radiosity), on another thread count, and when the elements change.
+#include "core/hierarchy/hierarchy.h"
+#include "core/parallel/lock_pool.h"
+#include "core/raycast/ray_scene.h"
+#include "core/scene/builtin_scenes.h"
+#include "core/solver/propagation.h"
+#include "core/solver/push_weights.h"
+#include "core/solver/refiner.h"
+#include "core/transport/open_fraction.h"
+#include "core/transport/transport.h"
+#include "oracles/oracle.h"
+#include "schedulers/scheduler.h"
+
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace hrad {
+namespace {
+
+// A builtin scene refined once at eps (links to clusters and between surfaces, input
+// polygons subdivided), its open fractions and push weights set.
+struct Refined {
+  Scene scene;
+  RayScene rays = RayScene::from_scene(scene);
+  Hierarchy hierarchy{scene, 1};
+  Transport transport{hierarchy, rays, 4, 1};
+  std::vector<Element*> elements;
+
+  Refined(const char* name, double eps) : scene(make_builtin(name)) {
+    const double power = scene.max_channel_emitted_power(), area = scene.total_area();
+    const auto oracle = make_oracle("bf");
+    LockPool element_locks(2, 1), link_locks(2, 1);
+    Refiner refiner(hierarchy, transport, *oracle, RefineLimits{eps * power, eps * area},
+                    element_locks, link_locks);
+    const auto scheduler = make_scheduler("stack", SchedulerConfig{1, 1});
+    std::vector<Task> tasks{Task{&hierarchy.root(), &hierarchy.root()}};
+    refiner.run(*scheduler, tasks, 1, 1);
+    elements = hierarchy.elements();
+    update_open_fractions(elements, hierarchy, rays, 1, 1, true);
+    update_push_weights(elements, transport, 1);
+  }
+
+  // From the emission, the clusters' directional sums not yet made.
+  void restart() {
+    for (Element* e : elements) {
+      e->B = e->emission;
+      if (e->light) e->light->leaving_made = false;
+    }
+  }
+  [[nodiscard]] std::vector<Rgb> radiosity() const {
+    std::vector<Rgb> b;
+    for (const Element* e : elements) b.push_back(e->B);
+    return b;
+  }
+  [[nodiscard]] std::vector<Rgb> pushed() const {
+    std::vector<Rgb> n;
+    for (const Element* e : elements) n.push_back(e->next);
+    return n;
+  }
+};
+
+void expect_same(const std::vector<Rgb>& a, const std::vector<Rgb>& b, const char* what) {
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) differ += (a[i] != b[i]).any() ? 1 : 0;
+  EXPECT_EQ(differ, 0u) << what << ": elements that differ, of " << a.size();
+}
+
+TEST(PropagationCache, KeptStateGivesWhatAFreshOneGives) {
+  Refined r("builtin:cornell", 1e-3);
+  ASSERT_GT(r.elements.size(), 100u);
+  PropagationCache cache;
+  for (ClusterReceiver mode : {ClusterReceiver::Isotropic, ClusterReceiver::Cosine}) {
+    SCOPED_TRACE(mode == ClusterReceiver::Isotropic ? "isotropic" : "cosine");
+    push_transport(r.elements, mode, 1, &cache);
+    const std::vector<Rgb> kept_push = r.pushed();
+    push_transport(r.elements, mode, 1);
+    expect_same(kept_push, r.pushed(), "push_transport");
+
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+    const std::vector<Rgb> first = r.radiosity();
+
+    // What a run changes between passes: the leaves' row-sum scales and the push
+    // weights; the radiosity starts again from the emission.
+    for (Element* e : r.elements) {
+      if (e->child_span().empty()) e->gather_scale = 0.9f;
+      e->push_weight *= 0.95f;
+    }
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+    const std::vector<Rgb> kept = r.radiosity();
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode);
+    const std::vector<Rgb> fresh = r.radiosity();
+    expect_same(kept, fresh, "propagate after the scales changed");
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < fresh.size(); ++i) moved += (fresh[i] != first[i]).any() ? 1 : 0;
+    EXPECT_GT(moved, fresh.size() / 2) << "the changes must change the answer";
+
+    for (Element* e : r.elements) {
+      e->gather_scale = 1;
+      e->push_weight /= 0.95f;
+    }
+  }
+}
+
+// A cache made for one thread count, or for other elements, is made again.
+TEST(PropagationCache, OtherThreadsOrElementsMakeItAgain) {
+  Refined cornell("builtin:cornell", 1e-3);
+  Refined office("builtin:office", 1e-2);
+  PropagationCache cache;
+  propagate(cornell.elements, 1e-6, 100, 1, ClusterReceiver::Isotropic, false, {}, 0, &cache);
+  const std::vector<Rgb> one = cornell.radiosity();
+
+  cornell.restart();
+  propagate(cornell.elements, 1e-6, 100, 2, ClusterReceiver::Isotropic, false, {}, 0, &cache);
+  expect_same(cornell.radiosity(), one, "two threads");
+
+  propagate(office.elements, 1e-6, 100, 2, ClusterReceiver::Isotropic, false, {}, 0, &cache);
+  const std::vector<Rgb> kept = office.radiosity();
+  office.restart();
+  propagate(office.elements, 1e-6, 100, 2);
+  expect_same(kept, office.radiosity(), "other elements");
+}
+
+}  // namespace
+}  // namespace hrad
