@@ -246,14 +246,10 @@ nlohmann::json config_json(const SolverOptions& o, const std::string& trace_give
   return j;
 }
 
-// Memory that rendering takes per pixel, measured: the radiance and coverage buffers,
-// the tone-mapped copy and the PNG encoder's (image_width 16384, 201 M pixels: 11.8 GB).
-constexpr double kImageBytesPerPixel = 60;
-
 // Refuses, before anything is loaded, an image that would not fit under max_memory_gb.
 void check_image_memory(const SolverOptions& o) {
   const int height = std::max(1, o.image_width * 3 / 4);
-  const double need = kImageBytesPerPixel * o.image_width * height;
+  const double need = kRenderBytesPerPixel * o.image_width * height;
   const std::uint64_t limit = memory_limit_bytes(o.max_memory_gb);
   if (limit > 0 && need > static_cast<double>(limit))
     throw std::invalid_argument(fmt::format(

@@ -6,6 +6,7 @@
 //   simulate    cmd_simulate.cpp    replay a task trace on more processors (experiments/sim/)
 //   reference   cmd_reference.cpp   Monte Carlo path-traced probe irradiance
 //   compare     cmd_compare.cpp     error metrics between two results
+//   render      cmd_render.cpp      a new picture of a solved scene from its solution.ply
 // Each register_* adds its subcommand to `app`; when that subcommand is chosen, its
 // callback runs the command and stores the process exit status in `ctx.status`.
 #pragma once
@@ -56,5 +57,6 @@ void register_experiment(CLI::App& app, CommandContext& ctx);
 void register_simulate(CLI::App& app, CommandContext& ctx);
 void register_reference(CLI::App& app, CommandContext& ctx);
 void register_compare(CLI::App& app, CommandContext& ctx);
+void register_render(CLI::App& app, CommandContext& ctx);
 
 }  // namespace hrad::cli

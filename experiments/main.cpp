@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
   register_topology(app, ctx);
   register_reference(app, ctx);
   register_compare(app, ctx);
+  register_render(app, ctx);
   app.footer("Run 'hrad COMMAND --help' for the options of a command.");
 
   // A first word that is neither an option nor a command: say so (CLI11 would say

@@ -83,3 +83,60 @@ TEST_F(Cli, BadImageOptionsAreNamedAndCreateNoFolder) {
 }
 
 }  // namespace
+
+namespace {
+
+hrad::Image read_pfm_file(const std::filesystem::path& p) { return hrad::decode_pfm(read_text(p)); }
+
+// The largest difference between two pictures of the same size, relative to the
+// brightest pixel of the first.
+double largest_difference(const hrad::Image& a, const hrad::Image& b) {
+  double most = 0, brightest = 0;
+  for (std::size_t i = 0; i < a.radiance.size(); ++i) {
+    most = std::max(most, (a.radiance[i] - b.radiance[i]).abs().maxCoeff());
+    brightest = std::max(brightest, a.radiance[i].maxCoeff());
+  }
+  return most / brightest;
+}
+
+}  // namespace
+
+// `hrad render` draws a solved scene again from its solution.ply: with the solve's
+// defaults it gives the solve's picture (up to the mesh's 32-bit floats), and another
+// camera, width, samples or exposure changes only what it should.
+TEST_F(Cli, RenderDrawsASolveAgainFromItsMesh) {
+  ASSERT_EQ(
+      hrad("solve builtin:cornell --set image_width=64 --hdr solve.pfm --out run --quiet").status,
+      0);
+  Result r = hrad("render run --hdr again.pfm");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "64 x 48 pixels, 4 samples per pixel")) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "run" / "rerender.png"));
+  const hrad::Image solve = read_pfm_file(dir_ / "solve.pfm");
+  const hrad::Image again = read_pfm_file(dir_ / "again.pfm");
+  ASSERT_EQ(again.width, 64);
+  ASSERT_EQ(again.height, 48);
+  // 32-bit floats hold positions and radiosity to about 1e-7 of their size (measured
+  // here: 5e-8 of the brightest pixel).
+  EXPECT_LT(largest_difference(solve, again), 1e-5);
+  // Another camera (nearer the box) and size: the box fills more of the picture.
+  r = hrad(
+      "render run/solution.ply --camera eye=2.78,2.73,-2:look=2.78,2.73,0:fov=60 "
+      "--width 32 --samples 1 --exposure 1 --image near/n.png");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "32 x 24 pixels, 1 samples per pixel")) << r.out;
+  EXPECT_TRUE(contains(r.out, "(+1 stops over automatic)")) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "near" / "n.png"));
+  // What cannot be done is said.
+  r = hrad("render run --camera auto");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "does not load")) << r.err;
+  r = hrad("render nowhere");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "nowhere: neither a solve's output folder nor a solution.ply"))
+      << r.err;
+  write("bad.ply", "ply\nformat ascii 1.0\n");
+  r = hrad("render bad.ply --camera eye=0,0,-1:look=0,0,0");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "bad.ply")) << r.err;
+}

@@ -36,6 +36,11 @@ struct ToneMap {
   double stops = 0;      ///< the exposure above is multiplied by 2^stops
 };
 
+/// Memory that rendering and writing a picture take per pixel, measured: the radiance
+/// and coverage buffers, the tone-mapped copy and the PNG encoder's (16384 x 12288
+/// pixels: 11.8 GB). Commands refuse a size whose need is above their memory limit.
+inline constexpr double kRenderBytesPerPixel = 60;
+
 /// Rec. 709 luminance of a linear RGB triple.
 [[nodiscard]] inline double luminance(const Rgb& c) {
   return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
