@@ -10,6 +10,7 @@
 #include "core/parallel/trace.h"
 #include "core/raycast/ray_scene.h"
 #include "core/solver/numa_report.h"
+#include "core/solver/progress_scale.h"
 #include "core/solver/propagation.h"
 #include "core/solver/push_weights.h"
 #include "core/solver/refiner.h"
@@ -198,13 +199,8 @@ struct Solver::Impl {
   void count_links(int it, const std::vector<Element*>& elements, IterationStats& is,
                    RunStats& stats) const;
   void write_run_trace(const std::vector<TraceRecord>& trace) const;
-  /// Where iteration `it`'s refinement and its propagation start on the progress scale.
-  [[nodiscard]] double refine_progress(int it) const {
-    return static_cast<double>(it - 1) / options.iterations;
-  }
-  [[nodiscard]] double propagate_progress(int it) const {
-    return refine_progress(it) + 0.8 / options.iterations;
-  }
+  /// Where each phase sits on the progress line (core/solver/progress_scale.h).
+  [[nodiscard]] ProgressScale progress_scale() const { return ProgressScale(options.iterations); }
 };
 
 std::uint64_t memory_limit_bytes(double gb) {
@@ -345,21 +341,21 @@ void Solver::Impl::warn_about_scene(RunStats& stats) const {
 // the previous iteration's links).
 RefineCounters Solver::Impl::refine(RunState& r, int it, IterationStats& is) {
   const SolverOptions& o = options;
-  const double base = refine_progress(it);
+  const ProgressScale scale = progress_scale();
   if (progress) {
-    progress(fmt::format("iteration {}/{}: refine", it, o.iterations), base);
+    progress(fmt::format("iteration {}/{}: refine", it, o.iterations), scale.refine(it));
     // During the stage: tasks examined and links accepted so far. The share done is
     // estimated from the previous iteration's task count (or the tasks known, when
     // more); iteration 1 starts from one task and finds the rest as it goes, so it
     // claims no share until it ends.
     const std::uint64_t expected = r.stats.iterations.empty() ? 0 : r.stats.iterations.back().tasks;
-    r.refiner.set_progress([this, it, base, expected](const RefineProgress& p) {
+    r.refiner.set_progress([this, it, scale, expected](const RefineProgress& p) {
       const double known = static_cast<double>(std::max(expected, p.tasks + p.pending));
       const double share = expected > 0 ? static_cast<double>(p.tasks) / known : 0.0;
       progress(fmt::format("iteration {}/{}: refine {} tasks, {} links", it, options.iterations,
                            ProgressReporter::format_count(p.tasks),
                            ProgressReporter::format_count(p.links)),
-               base + 0.8 * share / options.iterations);
+               scale.refine(it, share));
     });
   }
   r.element_locks.reset_counters();
@@ -422,7 +418,7 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   const int it = is.iteration;
   if (progress)
     progress(fmt::format("iteration {}/{}: open fractions", it, o.iterations),
-             propagate_progress(it));
+             progress_scale().propagate(it));
   std::vector<Element*> elements = hierarchy.elements();
   const OpenStats open =
       update_open_fractions(elements, hierarchy, rays, o.seed, o.threads, effects.visibility.on);
@@ -453,17 +449,19 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
 void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<Element*>& elements,
                                    IterationStats& is) {
   const SolverOptions& o = options;
-  const double propagate_base = propagate_progress(it);
+  const ProgressScale scale = progress_scale();
+  const double swept = ProgressScale::kPrepareShare;  // the preparation's share
   const auto on_sweep = [&](int sweeps, double change) {
-    // The share of the stage is a guess: a sweep count of its own (the number of
+    // The share of the sweeps is a guess: a sweep count of its own (the number of
     // sweeps is known only at the end) that approaches the stage's end.
     if (progress)
       progress(fmt::format("iteration {}/{}: propagate, sweep {} ({:.1e})", it, o.iterations,
                            sweeps, change),
-               propagate_base + 0.2 / o.iterations * sweeps / (sweeps + 10.0));
+               scale.propagate(it, swept + (1 - swept) * sweeps / (sweeps + 10.0)));
   };
   if (progress)
-    progress(fmt::format("iteration {}/{}: propagate", it, o.iterations), propagate_base);
+    progress(fmt::format("iteration {}/{}: propagate", it, o.iterations),
+             scale.propagate(it, swept));
   const auto sweeps_start = Clock::now();
   const PropagationResult pr = propagate(
       elements, last ? o.gather_tolerance : std::max(o.gather_tolerance, kIntermediateTolerance),
