@@ -117,9 +117,10 @@ TEST(ExperimentAccuracy, BadBlocksAreNamedErrors) {
 
 TEST(ExperimentAccuracy, ColumnsAreAppendedAndEmptyWithoutTheBlock) {
   const auto& rc = run_columns();
-  const std::vector<std::string> tail(rc.end() - 5, rc.end());
+  const std::vector<std::string> tail(rc.end() - 8, rc.end());
   EXPECT_EQ(tail, (std::vector<std::string>{"started_at", "probe_err_mean", "probe_err_max",
-                                            "probe_err_rms", "probe_s"}));
+                                            "probe_err_rms", "probe_s", "warnings", "host",
+                                            "hrad_revision"}));
   SweepPoint p;
   p.scene = "builtin:cornell";
   RunStats stats;

@@ -70,6 +70,8 @@ TEST(ExperimentRunner, RunsEveryPointAndWritesTheFiles) {
     EXPECT_GT(std::stoull(r[column_index(rc, "tasks")]), 0u);
     EXPECT_EQ(r[column_index(rc, "iterations_run")], "2");
     EXPECT_EQ(r[column_index(rc, "eps")], "0.01");
+    EXPECT_EQ(r[column_index(rc, "hrad_revision")], "abc");  // inputs_for's
+    EXPECT_FALSE(r[column_index(rc, "host")].empty());
   }
   EXPECT_EQ(links.size(), 1u) << "links depend on the scheduler or thread count";
   EXPECT_EQ(ids.size(), 8u);
@@ -88,6 +90,33 @@ TEST(ExperimentRunner, RunsEveryPointAndWritesTheFiles) {
   EXPECT_TRUE(m["machine"].contains("hostname"));
   EXPECT_EQ(m["columns"]["runs"].get<std::vector<std::string>>(), run_columns());
   EXPECT_FALSE(m["finished_at"].is_null());
+}
+
+// A run's warnings (here: the scene has no emitter) are printed to the log and kept in
+// its runs.csv row.
+TEST(ExperimentRunner, PassesOnTheRunsWarnings) {
+  Folder out("hrad_runner_warnings", /*create=*/true);
+  std::ofstream(out.path / "dark.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
+                                          "v 0 0 1\nv 0 1 1\nv 1 1 1\nv 1 0 1\nf 5 6 7 8\n";
+  const ExperimentConfig c = parse_experiment_config(
+      nlohmann::ordered_json::parse(R"({"name": "dark", "scenes": [")" +
+                                    (out.path / "dark.obj").string() + R"("],
+        "settings": {"iterations": 1, "image_width": 8}})"),
+      "dark.json");
+  const auto points = expand_sweep(c);
+  std::FILE* log = std::tmpfile();
+  ASSERT_NE(log, nullptr);
+  RunnerSettings s{out.path / "run", /*quiet=*/false, log};
+  run_experiment(inputs_for(c, points.size()), points, s);
+  std::rewind(log);
+  std::string text;
+  for (int ch; (ch = std::fgetc(log)) != EOF;) text.push_back(static_cast<char>(ch));
+  std::fclose(log);
+  EXPECT_NE(text.find("hrad: warning: "), std::string::npos) << text;
+  EXPECT_NE(text.find("no emitter"), std::string::npos) << text;
+  const auto runs = data_rows(out.path / "run" / "runs.csv");
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_NE(runs[0][column_index(run_columns(), "warnings")].find("no emitter"), std::string::npos);
 }
 
 TEST(ExperimentRunner, ResumesAnInterruptedRun) {

@@ -91,7 +91,10 @@ RunStats two_iterations() {
 
 TEST(ExperimentRows, ColumnsAndValues) {
   const std::vector<SweepPoint> p = expand_sweep(config());
-  const RunRows r = make_run_rows("s", p[3], 1, two_iterations(), "2026-01-01T00:00:00+0000");
+  RunStats stats = two_iterations();
+  stats.warnings = {"iteration 1: refiner 1 ran on a CPU for 40% of the time", "another"};
+  const RunRows r = make_run_rows("s", p[3], 1, stats, "2026-01-01T00:00:00+0000", nullptr,
+                                  RunOrigin{"node7", "abc1234"});
   const auto& rc = run_columns();
   ASSERT_EQ(r.run.size(), rc.size());
   const auto at = [&](const char* c) { return r.run[column_index(rc, c)]; };
@@ -112,6 +115,9 @@ TEST(ExperimentRows, ColumnsAndValues) {
   EXPECT_EQ(at("peak_parallelism"), "2");       // max
   EXPECT_EQ(at("steals"), "6");
   EXPECT_EQ(at("iterations_run"), "2");
+  EXPECT_EQ(at("warnings"), "iteration 1: refiner 1 ran on a CPU for 40% of the time | another");
+  EXPECT_EQ(at("host"), "node7");
+  EXPECT_EQ(at("hrad_revision"), "abc1234");
   ASSERT_EQ(r.iterations.size(), 2u);
   const auto& ic = iteration_columns();
   for (const Row& row : r.iterations) ASSERT_EQ(row.size(), ic.size());
@@ -198,8 +204,9 @@ TEST(ExperimentRows, EveryTotalOfStatsJsonIsARunsCsvColumn) {
                                   [](const RunField& f) { return f.path != nullptr; }));
   EXPECT_EQ(j["iterations_run"], 2);
   EXPECT_EQ(j["task_cpu_ns"], 12.5);
-  // Identity, options, the table, then the start time and the four probe columns.
-  EXPECT_EQ(rc.size(), 5 + option_table().size() + run_fields().size() + 5);
+  // Identity, options, the table, then the start time, the four probe columns, the
+  // warnings, the host and the revision.
+  EXPECT_EQ(rc.size(), 5 + option_table().size() + run_fields().size() + 5 + 3);
 }
 
 TEST(ExperimentRows, HeaderStartsWithIdentityThenOptions) {

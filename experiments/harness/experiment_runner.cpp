@@ -46,7 +46,7 @@ ExperimentSummary run_experiment(const ManifestInputs& inputs,
     fmt::print(settings.log, "hrad experiment: resuming {}: {} of {} runs already done\n",
                settings.dir.string(), summary.skipped, summary.runs);
 
-  RunExecutor executor(config, settings.dir, settings.log, settings.quiet);
+  RunExecutor executor(config, settings.dir, settings.log, settings.quiet, inputs.git_revision);
   double run_seconds = 0;
   int number = summary.skipped;
   TaskCostTable task_costs;

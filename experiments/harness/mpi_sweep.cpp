@@ -342,7 +342,7 @@ ExperimentSummary work(const ManifestInputs& inputs, const std::vector<SweepPoin
           fmt::format("rank {}: point {} is not in the sweep", world_rank(), id.point));
     if (!executor)
       executor.emplace(inputs.config, fs::path(a.at("dir").get<std::string>()), settings.log,
-                       /*quiet=*/true, /*cached_references_only=*/true);
+                       /*quiet=*/true, inputs.git_revision, /*cached_references_only=*/true);
     const SweepPoint& p = points[static_cast<std::size_t>(id.point)];
     std::optional<RunOutcome> outcome;
     std::string error;

@@ -19,12 +19,16 @@ namespace hrad::experiment {
 namespace fs = std::filesystem;
 
 RunExecutor::RunExecutor(const ExperimentConfig& config, fs::path dir, std::FILE* log, bool quiet,
-                         bool cached_references_only)
+                         std::string revision, bool cached_references_only)
     : config_(config),
       dir_(std::move(dir)),
       log_(log),
       quiet_(quiet),
-      cached_only_(cached_references_only) {}
+      cached_only_(cached_references_only) {
+  char host[256] = {};
+  origin_.host = ::gethostname(host, sizeof host - 1) == 0 ? host : "unknown";
+  origin_.revision = std::move(revision);
+}
 
 void RunExecutor::load(const std::string& spec, const SceneLoadOptions& options) {
   scene_.reset();  // free the previous scene before loading the next
@@ -65,8 +69,11 @@ RunOutcome RunExecutor::run(const SweepPoint& p, int repetition, const std::stri
     if (reference_) out.accuracy = measure_accuracy(solver, *reference_, config_.accuracy);
   }
   progress.finish();
+  if (!quiet_)
+    for (const std::string& w : stats.warnings)
+      fmt::print(log_, "hrad: warning: {}: {}\n", label, w);
   out.rows = make_run_rows(config_.name, p, repetition, stats, started,
-                           out.accuracy ? &*out.accuracy : nullptr);
+                           out.accuracy ? &*out.accuracy : nullptr, origin_);
   out.task_cpu_ns = stats.totals.task_cpu_ns;
   out.seconds = seconds_since(start);
   return out;

@@ -31,12 +31,15 @@ class RunExecutor {
   /// `cached_references_only`, a reference missing from `dir` is an error instead of
   /// being traced here (MPI workers: rank 0 traces them first, so that every rank
   /// compares against the same reference).
+  /// `revision`: hrad's git revision, for the rows (RunOrigin; the host is this one's).
   RunExecutor(const ExperimentConfig& config, std::filesystem::path dir, std::FILE* log, bool quiet,
-              bool cached_references_only = false);
+              std::string revision, bool cached_references_only = false);
 
   /// Runs repetition `repetition` of `p`. `label` prefixes hrad's in-place progress
-  /// line (drawn when the log is a terminal and not quiet). Throws what the scene
-  /// loader or the solver throws (hrad::Interrupted included).
+  /// line (drawn when the log is a terminal and not quiet) and the run's warnings,
+  /// printed to the log unless quiet (a solve's warning about refiners that waited for
+  /// a core says the run's timings measure the sharing). Throws what the scene loader
+  /// or the solver throws (hrad::Interrupted included).
   RunOutcome run(const SweepPoint& p, int repetition, const std::string& label);
 
  private:
@@ -44,6 +47,7 @@ class RunExecutor {
   std::filesystem::path dir_;
   std::FILE* log_;
   bool quiet_, cached_only_;
+  RunOrigin origin_;
   std::optional<Scene> scene_;
   std::optional<SceneReference> reference_;
   std::string scene_spec_;

@@ -4,6 +4,7 @@
 #include "core/output/stat_fields.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -55,7 +56,7 @@ void iteration_figures(Cells& c, const IterationStats& it) {
 }
 
 void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
-                 const AccuracyFigures* accuracy) {
+                 const AccuracyFigures* accuracy, const RunOrigin& origin) {
   const IterationTotals sums = sum_iterations(stats.iterations);
   const auto probe = [accuracy](double AccuracyFigures::*f) {
     return accuracy ? num(accuracy->*f) : std::string();
@@ -66,6 +67,9 @@ void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
   c.add("probe_err_max", probe(&AccuracyFigures::max));
   c.add("probe_err_rms", probe(&AccuracyFigures::rms));
   c.add("probe_s", probe(&AccuracyFigures::probe_s));
+  c.add("warnings", fmt::format("{}", fmt::join(stats.warnings, " | ")));
+  c.add("host", origin.host);
+  c.add("hrad_revision", origin.revision);
 }
 
 }  // namespace
@@ -74,7 +78,7 @@ const std::vector<std::string>& run_columns() {
   static const std::vector<std::string> columns = [] {
     std::vector<std::string> c = with_identity_and_options();
     Cells cells(&c);
-    run_figures(cells, RunStats{}, "", nullptr);
+    run_figures(cells, RunStats{}, "", nullptr, RunOrigin{});
     return c;
   }();
   return columns;
@@ -98,7 +102,7 @@ std::size_t column_index(const std::vector<std::string>& columns, const std::str
 
 RunRows make_run_rows(const std::string& config_name, const SweepPoint& point, int repetition,
                       const RunStats& stats, const std::string& started_at,
-                      const AccuracyFigures* accuracy) {
+                      const AccuracyFigures* accuracy, const RunOrigin& origin) {
   RunRows out;
   const Row prefix = identity_and_options(config_name, point, repetition);
   for (const IterationStats& it : stats.iterations) {
@@ -110,7 +114,7 @@ RunRows make_run_rows(const std::string& config_name, const SweepPoint& point, i
     out.iterations.push_back(std::move(r));
   }
   Cells c;
-  run_figures(c, stats, started_at, accuracy);
+  run_figures(c, stats, started_at, accuracy, origin);
   out.run = prefix;
   const Row figures = c.take();
   out.run.insert(out.run.end(), figures.begin(), figures.end());

@@ -11,7 +11,7 @@
 //              lock_wait_scheduler_s lock_wait_element_s lock_wait_link_s
 //              lock_wait_total_s peak_parallelism local_access_ratio gather_sweeps
 //              iterations_run started_at probe_err_mean probe_err_max probe_err_rms
-//              probe_s
+//              probe_s warnings host hrad_revision
 //   iterations.csv  iteration, then the same per-iteration figures (max_change too)
 //
 // Sums over iterations: times, links_created, rays, tasks, scheduler_ops, steals, idle,
@@ -44,17 +44,25 @@ struct AccuracyFigures {
   double probe_s = 0;
 };
 
+/// Where a run ran: its host and hrad's git revision (the manifest gives the
+/// experiment's, but a resumed folder or an MPI sweep's ranks may mix them).
+struct RunOrigin {
+  std::string host, revision;
+};
+
 struct RunRows {
   Row run;                      ///< aligned with run_columns()
   std::vector<Row> iterations;  ///< aligned with iteration_columns()
 };
 
 /// Flattens one run. `started_at` is an ISO 8601 time stamp. The probe_err_* and probe_s
-/// columns are empty when `accuracy` is null.
+/// columns are empty when `accuracy` is null. `warnings` holds the run's warnings
+/// (RunStats::warnings, the solve's stats.json `warnings`), joined by " | ".
 [[nodiscard]] RunRows make_run_rows(const std::string& config_name, const SweepPoint& point,
                                     int repetition, const RunStats& stats,
                                     const std::string& started_at,
-                                    const AccuracyFigures* accuracy = nullptr);
+                                    const AccuracyFigures* accuracy = nullptr,
+                                    const RunOrigin& origin = {});
 
 /// Index of `name` in `columns` (std::logic_error when absent: a programming error).
 [[nodiscard]] std::size_t column_index(const std::vector<std::string>& columns,
