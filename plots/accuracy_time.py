@@ -8,9 +8,15 @@ gather); right, error against the memory of the hierarchy at the end of the run
 (bytes_total = elements + links). Log-log; one marker set per oracle (per oracle and
 row_sums when the sweep varies row_sums), each set's own Pareto front joined by a line; the Pareto front over all runs (no other run is both
 faster/smaller and more accurate) is circled in black and its points labelled with
-their settings. The fronts are also printed on stdout.
+their settings. The fronts are also printed on stdout. Where the folder holds the scene's
+cached reference (reference-<scene>.csv), its noise is shaded: the mean over the probes
+of the reference's relative standard error (channel of the largest irradiance), below
+which an error is not resolved and a fall is no trend.
 Usage: accuracy_time.py RESULT_DIR [--out-dir DIR]
 """
+import os
+import statistics
+
 import common
 
 ERROR = "probe_err_mean"
@@ -34,6 +40,22 @@ def short(v):
         m, _, e = f"{v:.0e}".partition("e")
         return f"{m}e{int(e)}"
     return str(v)
+
+
+def reference_noise_pct(result_dir, scene):
+    """The mean relative standard error (%) of the scene's cached reference in the
+    result folder (named as experiments/harness/accuracy.cpp names it); None without."""
+    name = "".join(c if (c.isascii() and c.isalnum()) or c in "_.-" else "_" for c in scene)
+    path = os.path.join(result_dir, f"reference-{name}.csv")
+    if not os.path.exists(path):
+        return None
+    rel = []
+    for r in common.load_csv(path):
+        c = max("rgb", key=lambda c: r.get(f"E_{c}") or 0)
+        e, se = r.get(f"E_{c}"), r.get(f"SE_{c}")
+        if e and se is not None and e > 0:
+            rel.append(se / e)
+    return 100 * statistics.fmean(rel) if rel else None
 
 
 def settings_label(p):
@@ -70,9 +92,11 @@ VARY_ROW_SUMS = len(common.unique(points, "row_sums")) > 1
 for p in points:
     p["set"] = f"oracle {p['oracle']}" + (f", row_sums {p['row_sums']}" if VARY_ROW_SUMS else "")
 oracles = common.unique(points, "set")
-fig, axes = common.figure(len(scenes), 2, width=7.0, height=5.0)
+fig, axes = common.figure(len(scenes), 2, width=3.5, height=2.9)
+keys = []  # the numbered front points' settings, per panel, for the caption
 for s, scene in enumerate(scenes):
     mine = [p for p in points if p["scene"] == scene]
+    noise = reference_noise_pct(args.result_dir, scene)
     for c, (xkey, xlabel, what) in enumerate((("wall_s", "wall time of the solve (s)", "time"),
                                              ("mib", "memory: elements + links (MiB)",
                                               "memory"))):
@@ -92,9 +116,13 @@ for s, scene in enumerate(scenes):
         ax.scatter([p[xkey] for p in front], [p["err_pct"] for p in front], s=60,
                    facecolors="none", edgecolors="black", linewidths=1.0,
                    label="Pareto front, all runs")
-        for i, p in enumerate(front):
-            ax.annotate(settings_label(p), (p[xkey], p["err_pct"]), fontsize=5,
-                        xytext=(4, 3 + 5 * (i % 2)), textcoords="offset points")
+        # Numbers beside the front's points (their settings would pile up in a
+        # column-wide panel); the settings of each number are in the caption.
+        for i, p in enumerate(front, 1):
+            ax.annotate(str(i), (p[xkey], p["err_pct"]), fontsize=6, xytext=(4, 3),
+                        textcoords="offset points")
+        keys.append(f"{common.scene_label(scene)} vs {what}: " +
+                    "; ".join(f"{i} {settings_label(p)}" for i, p in enumerate(front, 1)))
         print(f"{common.scene_label(scene)}: Pareto front, error vs {what}:")
         for p in front:
             print(f"  {settings_label(p):40s} error {p['err_pct']:7.2f}%  "
@@ -102,6 +130,11 @@ for s, scene in enumerate(scenes):
                   f"{p['mib']:8.2f} MiB  links {p.get('links')}")
         ax.set_xscale("log")
         ax.set_yscale("log")
+        if noise is not None:  # shaded from the axis' bottom, which it does not move
+            lo, hi = ax.get_ylim()
+            ax.axhspan(min(lo, noise / 2), noise, color="0.88", zorder=0,
+                       label="reference noise (mean standard error)")
+            ax.set_ylim(min(lo, noise / 2), max(hi, 2 * noise))
         # Labels that can be read on any span (the furnace's errors lie within 0.3-2 %).
         common.label_log_axis(ax.xaxis, *ax.get_xlim())
         common.label_log_axis(ax.yaxis, *ax.get_ylim())
@@ -117,12 +150,13 @@ for ax in axes:
         handles.setdefault(l, h)
 columns = min(3, len(handles))
 fig.legend(list(handles.values()), list(handles.keys()), loc="upper center", ncol=columns,
-           fontsize=7, frameon=False)
+           frameon=False)
 legend_rows = -(-len(handles) // columns)
 
 common.save(fig, args.out_dir, "accuracy_time",
             common.caption(manifest, runs,
                            "Mean relative probe error (vs path-traced reference) against wall "
-                           "time and memory; circled: Pareto front (labels: oracle, row_sums "
-                           "when swept, eps, a = min_area, v = visibility rays)"),
+                           "time and memory; circled and numbered: the Pareto front (oracle, "
+                           "row_sums when swept, eps, a = min_area, v = visibility rays): " +
+                           ". ".join(keys)),
             top_inches=0.18 * legend_rows + 0.1)

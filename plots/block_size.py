@@ -24,6 +24,6 @@ for ax, scene in zip(axes, scenes):
     ax.set_ylabel("CPU refinement time (s)\nsummed over refiners and iterations")
     ax.set_ylim(bottom=0)
     ax.set_title(common.scene_label(scene))
-    ax.legend(fontsize=7)
+    ax.legend()
 common.save(fig, args.out_dir, "block_size",
             common.caption(manifest, runs, "CPU time vs block size (paper Fig. 7)"))

@@ -1,10 +1,14 @@
 """Shared helpers for the hrad plot scripts (plots/*.py).
 
 Every script reads only the files of one experiment result folder (runs.csv,
-iterations.csv, manifest.json; see docs/results.md) and writes NAME.png and
-NAME.svg into that folder (or --out-dir). Captions give the machine and scenes from
-manifest.json and the command that regenerates the figure. Only the standard library
-and matplotlib (Debian: python3-matplotlib) are used; pandas is not needed.
+iterations.csv, manifest.json; see docs/results.md) and writes NAME.pdf, NAME.svg and
+NAME.png (300 dpi) into that folder (or --out-dir), sized for a paper: 3.4 inches a
+panel (one column; two panels fill a two-column width), 7-8 point text. The caption
+(the machine and scenes from manifest.json, and the command that regenerates the
+figure) goes to NAME.caption.txt, for the paper's own caption, not into the picture;
+a --quick run is marked in the picture itself, since its numbers are not a result.
+Only the standard library and matplotlib (Debian: python3-matplotlib) are used;
+pandas is not needed.
 """
 
 import argparse
@@ -29,8 +33,12 @@ def _pyplot():
                  "the script with a Python that has it: nothing drawn")
 
     matplotlib.use("Agg")  # files only, no display
-    # Text in the SVG stays text (searchable, editable), not outlines.
-    matplotlib.rcParams["svg.fonttype"] = "none"
+    # Text in the SVG stays text (searchable, editable), not outlines; the PDF embeds
+    # TrueType fonts (Type 42), which journals accept.
+    matplotlib.rcParams.update({
+        "svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 8, "axes.titlesize": 8,
+        "axes.labelsize": 8, "xtick.labelsize": 7, "ytick.labelsize": 7, "legend.fontsize": 6.5,
+        "lines.linewidth": 1.2, "lines.markersize": 4, "errorbar.capsize": 2})
     import matplotlib.pyplot as plt
 
     return plt
@@ -111,9 +119,15 @@ def mean_by(rows, keys, value):
     return {k: (statistics.fmean(v), min(v), max(v)) for k, v in groups.items()}
 
 
+class Caption(str):
+    """A figure's caption (str), knowing whether its runs were a --quick smoke test."""
+
+    quick = False
+
+
 def caption(manifest, rows, figure, extra_flags=""):
     """Machine, scenes, revision and the command that regenerates the figure
-    (`extra_flags` appended to it, e.g. ' --simulated sim.csv')."""
+    (`extra_flags` appended to it, e.g. ' --simulated sim.csv'), as a Caption."""
     m = manifest.get("machine", {})
     exp = manifest.get("experiment", {})
     hrad = manifest.get("hrad", {})
@@ -128,15 +142,20 @@ def caption(manifest, rows, figure, extra_flags=""):
         flags += f" --set {s}"
     flags += extra_flags
     reps = exp.get("repetitions", "?")
-    return (f"{figure}. Machine {machine}; hrad {hrad.get('git_revision', '?')}; "
-            f"{reps} repetition(s), mean (bars: min-max).\nScenes: {scenes}.\n"
-            f"Regenerate: hrad experiment {config}{flags}")
+    spread = (f"{reps} repetitions, mean (bars: min-max)" if isinstance(reps, int) and reps > 1
+              else "one run per point")
+    text = Caption(f"{figure}. Machine {machine}; hrad {hrad.get('git_revision', '?')}; "
+                   f"{spread}.\nScenes: {scenes}.\n"
+                   f"Regenerate: hrad experiment {config}{flags}")
+    text.quick = bool(exp.get("quick"))
+    return text
 
 
-def figure(nrows=1, ncols=1, width=6.4, height=4.4):
-    # At least 9 inches wide so the three caption lines fit under one panel.
-    fig, axes = _pyplot().subplots(nrows, ncols, figsize=(max(9.0, width * ncols), height * nrows),
-                             squeeze=False)
+def figure(nrows=1, ncols=1, width=3.4, height=2.6):
+    """A figure of nrows x ncols panels, each width x height inches (a journal column
+    is about 3.4 inches wide, a page 7)."""
+    fig, axes = _pyplot().subplots(nrows, ncols, figsize=(width * ncols, height * nrows),
+                                   squeeze=False)
     return fig, [ax for row in axes for ax in row]
 
 
@@ -145,24 +164,34 @@ def errorbar(ax, xs, stats, **kw):
     ys = [s[0] for s in stats]
     lo = [s[0] - s[1] for s in stats]
     hi = [s[2] - s[0] for s in stats]
-    return ax.errorbar(xs, ys, yerr=[lo, hi], capsize=3, marker="o", **kw)
+    return ax.errorbar(xs, ys, yerr=[lo, hi], marker="o", **kw)
+
+
+QUICK_MARK = "quick run (--quick): a smoke test of the pipeline, not a result"
 
 
 def save(fig, out_dir, name, text, top_inches=0.0):
-    """Adds the caption under the axes and writes NAME.png and NAME.svg; `top_inches`
-    are kept free above the axes (for a figure legend or title)."""
-    lines = text.count("\n") + 1
-    fig.text(0.01, 0.01, text, ha="left", va="bottom", fontsize=7, wrap=True)
-    # The caption's height in inches (7-point lines), whatever the figure's height.
+    """Writes NAME.pdf, NAME.svg, NAME.png (300 dpi) and the caption `text` to
+    NAME.caption.txt (printed too); `top_inches` are kept free above the axes (for a
+    figure legend or title). A caption of --quick runs puts QUICK_MARK above the axes."""
     height = fig.get_figheight()
-    fig.tight_layout(rect=(0, (0.16 * lines + 0.12) / height, 1, 1 - top_inches / height))
+    if getattr(text, "quick", False):
+        fig.text(0.5, 1 - 0.04 / height, QUICK_MARK, ha="center", va="top", color="#b00000",
+                 fontsize=8, fontweight="bold")
+        top_inches += 0.2
+    fig.tight_layout(rect=(0, 0, 1, 1 - top_inches / height), pad=0.3)
     os.makedirs(out_dir, exist_ok=True)
-    paths = [os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "svg")]
+    paths = [os.path.join(out_dir, f"{name}.{ext}") for ext in ("pdf", "svg", "png")]
     for p in paths:
-        fig.savefig(p, dpi=120)
+        fig.savefig(p, dpi=300)
     _pyplot().close(fig)
+    caption_path = os.path.join(out_dir, f"{name}.caption.txt")
+    with open(caption_path, "w") as f:
+        f.write(str(text) + "\n")
+    paths.append(caption_path)
     for p in paths:
         print(f"wrote {p}")
+    print(str(text))
     return paths
 
 
@@ -174,9 +203,18 @@ def threads_axis(ax, threads, top=None):
     if top >= 16 * ticks[0]:
         ax.set_xscale("log", base=2)
         ticks = [2**k for k in range(0, top.bit_length()) if 2**k >= ticks[0]]
+        plain_log2(ax.xaxis)
     ax.set_xticks(ticks)
     ax.set_xticklabels([str(t) for t in ticks])
     ax.grid(True, alpha=0.3)
+
+
+def plain_log2(axis):
+    """A base-2 log axis labelled 1, 2, 4 ... 64 (matplotlib writes 2^0 ... 2^6)."""
+    from matplotlib import ticker
+
+    axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(ticker.NullFormatter())
 
 
 def is_finite(x):

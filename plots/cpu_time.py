@@ -25,6 +25,6 @@ for ax, scene in zip(axes, scenes):
     ax.set_ylabel("CPU refinement time, summed over refiners (s)")
     ax.set_ylim(bottom=0)
     ax.set_title(common.scene_label(scene))
-    ax.legend(fontsize=7)
+    ax.legend()
 common.save(fig, args.out_dir, "cpu_time",
             common.caption(manifest, runs, "CPU refinement time per iteration (paper Fig. 4)"))

@@ -29,7 +29,9 @@ for ax, column, ylabel in ((a, "links", "links alive at the end of the iteration
     ax.set_ylabel(ylabel)
     ax.set_ylim(bottom=0)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
+# One legend (the panels show the same lines), at the lower right of the left panel:
+# the axis starts at 0 and the last iterations hold the most links, so no point is there.
+a.legend(loc="lower right")
 a.set_title("links")
 b.set_title("memory")
 common.save(fig, args.out_dir, "memory",

@@ -43,11 +43,11 @@ for panel, column in ((a, "refine_wall_s"), (b, "local_access_ratio")):
                 err[1].append(hi - m)
         panel.bar(xs, means, width, yerr=err, capsize=2, label=s)
     panel.set_xticks(range(len(pairs)))
-    panel.set_xticklabels([f"pin {p}\n{q}" for p, q in pairs], fontsize=7)
+    panel.set_xticklabels([f"{p}\n{q}" for p, q in pairs], fontsize=6)
     panel.set_xlabel("thread pinning / memory placement")
     # Headroom above the tallest bar for the legend, so that it covers no bar.
     panel.set_ylim(0, 1.3 * top if top > 0 else 1)
-    panel.legend(fontsize=7, title="scheduler", title_fontsize=7, loc="upper center",
+    panel.legend(title="scheduler", title_fontsize=6.5, loc="upper center",
                  ncol=max(1, len(schedulers)), frameon=False)
     panel.grid(True, axis="y", alpha=0.3)
     if column == "local_access_ratio" and nodes == 1:

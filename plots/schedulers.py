@@ -13,10 +13,9 @@ import common
 PANELS = [
     ("refine_wall_s", "refinement wall time (s)", "refinement time"),
     ("speedup", "speedup T(1) / T(P)", "speedup"),
-    ("lock_wait_scheduler_s", "scheduler lock wait, summed over refiners (s)",
-     "scheduler lock wait"),
-    ("lock_wait_data_s", "element + link lock wait, summed (s)", "element and link lock wait"),
-    ("idle_s", "refiner idle time, summed (s)", "refiner idle time"),
+    ("lock_wait_scheduler_s", "summed over refiners (s)", "scheduler lock wait"),
+    ("lock_wait_data_s", "summed over refiners (s)", "element + link lock wait"),
+    ("idle_s", "summed over refiners (s)", "refiner idle time"),
     ("steals", "tasks stolen", "tasks stolen (stealing)"),
 ]
 
@@ -32,7 +31,7 @@ for n, scene in enumerate(scenes):
     for r in rows:
         one = base.get((r["scheduler"], r["variant"], 1))
         r["speedup"] = one[0] / r["refine_wall_s"] if one and r["refine_wall_s"] else None
-    fig, axes = common.figure(2, 3, width=5.0, height=3.8)
+    fig, axes = common.figure(2, 3, width=2.5, height=2.3)
     for ax, (column, ylabel, title) in zip(axes, PANELS):
         stats = common.mean_by(rows, ("scheduler", "variant", "threads"), column)
         for key in sorted({k[:2] for k in stats}, key=str):
@@ -40,10 +39,10 @@ for n, scene in enumerate(scenes):
             common.errorbar(ax, xs, [stats[key + (t,)] for t in xs],
                             label=key[0] + (f", {key[1]}" if key[1] else ""))
         common.threads_axis(ax, common.unique(rows, "threads"))
-        ax.set_ylabel(ylabel, fontsize=8)
+        ax.set_ylabel(ylabel)
         ax.set_ylim(bottom=0)
-        ax.set_title(f"{title}: {common.scene_label(scene)}", fontsize=9)
-    axes[0].legend(fontsize=7, loc="best")
+        ax.set_title(f"{title}: {common.scene_label(scene)}")
+    axes[0].legend(loc="best")
     name = "schedulers" if len(scenes) == 1 else f"schedulers-{n + 1}"
     common.save(fig, args.out_dir, name,
                 common.caption(manifest, rows, "Schedulers side by side"))

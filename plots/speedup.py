@@ -115,6 +115,7 @@ if args.control:
                label=f"machine's limit (hardware control: {eff:.2f} at {n})")
 if top > 8:  # simulated curves far beyond the measured threads: log-log
     a.set_yscale("log", base=2)
+    common.plain_log2(a.yaxis)
 a.set_title("(a) speedup of the refinement, all iterations")
 
 scenes = common.unique(runs, "scene")
@@ -126,8 +127,8 @@ b.set_title(f"(b) per iteration: {common.scene_label(focus)}")
 common.threads_axis(a, common.unique(runs, "threads"), int(top))
 common.threads_axis(b, common.unique(runs, "threads"))
 for ax in (a, b):
-    ax.set_ylabel("speedup T(1) / T(P) of refinement wall time")
-    ax.legend(fontsize=7)
+    ax.set_ylabel("speedup T(1) / T(P), refinement")
+    ax.legend()
 title = "Speedup (paper Fig. 5)"
 extra = ""
 if args.simulated:

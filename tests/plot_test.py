@@ -3,9 +3,11 @@
 
 Usage: plot_test.py SCRIPT DATA_DIR OUT_DIR FIGURE CONFIG LABEL [extra args...]
 Runs SCRIPT on the synthetic result folder DATA_DIR, writing into OUT_DIR, and checks
-that FIGURE.png is a PNG and FIGURE.svg an SVG whose text holds the axis label LABEL,
-the machine from the manifest and "Regenerate: hrad experiment
-experiments/configs/CONFIG.json". Then checks that the script refuses a folder without
+that FIGURE.png is a PNG, FIGURE.pdf a PDF and FIGURE.svg an SVG whose text holds the
+axis label LABEL, and that FIGURE.caption.txt names the machine from the manifest and
+says "Regenerate: hrad experiment experiments/configs/CONFIG.json" (the caption is not
+drawn in the figure). A manifest marked quick puts the quick-run mark in the figure.
+Then checks that the script refuses a folder without
 runs.csv (non-zero exit, no figure written), and that without matplotlib (hidden by a
 stand-in package on PYTHONPATH whose import fails) the script exits non-zero with one
 line on stderr naming matplotlib, no traceback and no figure. For numa, a one-node
@@ -36,25 +38,39 @@ if r.returncode != 0:
 
 png = os.path.join(out, figure + ".png")
 svg = os.path.join(out, figure + ".svg")
-for path in (png, svg):
+pdf = os.path.join(out, figure + ".pdf")
+for path in (png, svg, pdf):
     if not os.path.isfile(path) or os.path.getsize(path) < 1000:
         fail(f"{path} missing or too small")
 with open(png, "rb") as f:
     if f.read(8) != b"\x89PNG\r\n\x1a\n":
         fail(f"{png} is not a PNG")
+with open(pdf, "rb") as f:
+    if f.read(5) != b"%PDF-":
+        fail(f"{pdf} is not a PDF")
 text = open(svg, encoding="utf-8").read()
-for needle in ("<svg", label, "synthetic-host",
-               f"Regenerate: hrad experiment experiments/configs/{config}.json"):
+caption_file = os.path.join(out, figure + ".caption.txt")
+caption = open(caption_file, encoding="utf-8").read() if os.path.isfile(caption_file) else ""
+for needle in ("synthetic-host", f"Regenerate: hrad experiment experiments/configs/{config}.json"):
+    if needle not in caption:
+        fail(f"{caption_file} lacks {needle!r}")
+    if needle in text:
+        fail(f"{svg}: the caption's {needle!r} is drawn in the figure")
+for needle in ("<svg", label):
     if needle not in text:
         fail(f"{svg} lacks {needle!r}")
+if "quick run" in text:
+    fail(f"{svg}: a full run is marked as a quick one")
 if "--control" in extra and "machine's limit" not in text:
     fail(f"{svg}: the hardware control's limit is not drawn")
 if extra and "simulated" not in text:
     fail(f"{svg}: the simulated curves are not labelled")
 if extra and figure == "speedup":
-    for needle in (f"--simulated {os.path.basename(extra[extra.index('--simulated') + 1])}", "not those of the measured"):
-        if needle not in text:
-            fail(f"{svg} lacks {needle!r}")
+    needle = f"--simulated {os.path.basename(extra[extra.index('--simulated') + 1])}"
+    if needle not in caption:
+        fail(f"{caption_file} lacks {needle!r}")
+    if "not those of the measured" not in text:
+        fail(f"{svg}: the simulated curves do not say whose settings they have")
 
 # Without matplotlib: one clear line, not a traceback.
 hidden = tempfile.mkdtemp()
@@ -74,6 +90,26 @@ try:
         fail(f"{script} without matplotlib wrote {os.listdir(out_dir)}")
 finally:
     shutil.rmtree(hidden)
+
+# Runs made with --quick: the figure itself says that they are no result.
+quick = tempfile.mkdtemp()
+try:
+    shutil.copytree(data, os.path.join(quick, "data"))
+    path = os.path.join(quick, "data", "manifest.json")
+    with open(path) as f:
+        manifest = json.load(f)
+    manifest.setdefault("experiment", {})["quick"] = True
+    with open(path, "w") as f:
+        json.dump(manifest, f)
+    r = subprocess.run([sys.executable, script, os.path.join(quick, "data"), "--out-dir",
+                        os.path.join(quick, "out"), *extra], capture_output=True, text=True)
+    if r.returncode != 0:
+        fail(f"{script} on a quick run failed:\n{r.stderr}")
+    if "quick run (--quick)" not in open(os.path.join(quick, "out", figure + ".svg"),
+                                         encoding="utf-8").read():
+        fail(f"{script}: a quick run's figure is not marked as one")
+finally:
+    shutil.rmtree(quick)
 
 # numa on a one-node machine: every ratio is 1.0, and the figure says why.
 if figure == "numa":
