@@ -419,10 +419,26 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
   // --eps 1e-30 refined until memory ran out: refinement stops at max_memory_gb (by
   // default 3/4 of the machine's memory) with an error, and writes nothing.
   // (A small image: the render's memory counts against the limit too.)
-  r = hrad("solve builtin:office --set max_memory_gb=0.005 --set image_width=64 --out mem");
+  r = hrad(
+      "solve builtin:office --eps 1e-30 --set max_memory_gb=0.05 --set image_width=64 "
+      "--out mem");
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "refinement stopped when its elements and links reached")) << r.err;
-  EXPECT_TRUE(contains(r.err, "above the limit of 0.005 GB")) << r.err;
+  EXPECT_TRUE(contains(r.err, "above the limit of 0.05 GB")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "mem"));
+  // The phases before it count too: loading the scene (the lab's takes about 11 MB) and
+  // preparing it (ray scene, hierarchy, contacts: about 28 MB), each refused with what
+  // it took, before any folder is made.
+  r = hrad("solve builtin:lab --set max_memory_gb=0.004 --set image_width=64 --out mem");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "builtin:lab: loading the scene (30380 polygons) took")) << r.err;
+  r = hrad("solve builtin:lab --set max_memory_gb=0.02 --set image_width=64 --out mem");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err,
+                       "preparing the scene (30380 polygons: ray scene, hierarchy, "
+                       "contacts) took"))
+      << r.err;
+  EXPECT_TRUE(contains(r.err, "above the limit of 0.02 GB")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "mem"));
 
   // image_width at its maximum took 11.8 GB while rendering, after the whole solve: now

@@ -33,7 +33,7 @@
 // | shaft_culling       | ShaftCulling    | off          | core/config/modes.h                     |
 // | decision_rays       | DecisionRays    | shared       | core/config/modes.h                     |
 // | push_visibility     | PushVisibility  | link         | core/config/modes.h, push_weights.h     |
-// | max_memory_gb       | double          | 0            | refinement's memory limit (0: 3/4 RAM)  |
+// | max_memory_gb       | double          | 0            | every phase's memory limit (0: 3/4 RAM) |
 // | camera              | string          | ""           | core/scene/camera_spec.h, auto, or ""   |
 // | sides               | Sides           | auto         | core/scene/back_faces.h                 |
 // | emitter_sides       | EmitterSides    | front        | core/scene/back_faces.h                 |

@@ -88,8 +88,9 @@ const std::vector<Row>& rows() {
       {"push_visibility", &S::push_visibility,
        "the visibility a push weight gives each child for a partly visible link"},
       {"max_memory_gb", &S::max_memory_gb,
-       "refinement stops with an error when its elements and links pass this many GB (0: "
-       "3/4 of the machine's physical memory)"},
+       "a run stops with an error when loading or preparing the scene, or the refinement's "
+       "elements and links, take more than this many GB (0: 3/4 of the machine's physical "
+       "memory)"},
       {"camera", &S::camera,
        "render.png's camera: eye=X,Y,Z:look=X,Y,Z[:up=X,Y,Z][:fov=DEG], auto, or empty (the "
        "scene's own, else automatic)",

@@ -5,6 +5,7 @@
 
 #include "core/config/effects.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -145,6 +146,26 @@ struct RunStats {
 
 /// Peak resident set size of this process so far (from getrusage), in bytes.
 std::uint64_t peak_rss_bytes();
+/// Resident set size of this process now (/proc/self/statm), in bytes; 0 when unknown.
+std::uint64_t current_rss_bytes();
+
+/// The memory a phase of a run took, for checks against max_memory_gb: construct before
+/// the phase, call grown() after it. The growth of the resident set, or, when the phase
+/// raised the process's peak (a transient, freed again), the peak over the resident set
+/// at the start. Growth only: what other runs of the same process hold is not counted.
+class MemoryGrowth {
+ public:
+  MemoryGrowth() : rss_(current_rss_bytes()), peak_(peak_rss_bytes()) {}
+  [[nodiscard]] std::uint64_t grown() const {
+    const std::uint64_t now = current_rss_bytes(), peak = peak_rss_bytes();
+    std::uint64_t g = now > rss_ ? now - rss_ : 0;
+    if (peak > peak_ && peak > rss_) g = std::max(g, peak - rss_);
+    return g;
+  }
+
+ private:
+  std::uint64_t rss_, peak_;
+};
 
 /// "" or a warning that a refiner of this stage waited for a core while it had work:
 /// its thread's CPU time over the stage (cpu_s) is below 80% of the wall time it spent

@@ -224,9 +224,20 @@ Solver::Solver(const Scene& scene, const SolverOptions& options, ProgressFn prog
   check_scheduler_name(options.scheduler);
   check_oracle_name(options.oracle);
   const auto start = Clock::now();
+  const MemoryGrowth memory;
   impl_ = std::make_unique<Impl>(scene, options, std::move(progress));
   impl_->setup_s = seconds_since(start);
   throw_if_interrupted();  // (the setup's parts cannot stop midway: seconds on large scenes)
+  // max_memory_gb bounds the phases before the refinement too (which counts its own
+  // elements and links against it): what preparing the scene (ray scene, hierarchy,
+  // contacts) took, before any link is made.
+  const std::uint64_t limit = memory_limit_bytes(options.max_memory_gb);
+  if (const std::uint64_t took = memory.grown(); limit > 0 && took > limit)
+    throw std::runtime_error(fmt::format(
+        "preparing the scene ({} polygons: ray scene, hierarchy, contacts) took {:.3g} GB of "
+        "memory, above {}: the refinement would have none left; raise max_memory_gb or use "
+        "a smaller scene",
+        scene.polygon_count(), static_cast<double>(took) / 1e9, memory_limit_text(limit)));
 }
 
 Solver::~Solver() = default;
