@@ -128,7 +128,7 @@ common.threads_axis(a, common.unique(runs, "threads"), int(top))
 common.threads_axis(b, common.unique(runs, "threads"))
 for ax in (a, b):
     ax.set_ylabel("speedup T(1) / T(P), refinement")
-    ax.legend()
+    ax.legend(loc="upper left")  # above the curves, which run below the ideal diagonal
 title = "Speedup (paper Fig. 5)"
 extra = ""
 if args.simulated:
