@@ -121,9 +121,11 @@ struct alignas(64) SweepChange {
 };
 
 // The elements in the order a pass visits them: the top first (parents first), then
-// each part's subtrees breadth first. A part is one range of positions, every element
-// comes after its parent, and below the top an element's children are consecutive.
-// Element::index is set to the position: the gather matrix's row and value slot.
+// each part's subtrees depth first (preorder). A part is one range of positions, and
+// every element comes after its parent, its subtree right after it: elements near each
+// other in the hierarchy, which light each other most, get nearby value slots, so the
+// gather's reads stay in fewer cache lines (breadth first, the cabin's sweeps took about
+// 15 % longer). Element::index is set to the position: the gather matrix's row and value slot.
 struct Layout {
   int parts = 1;
   std::vector<Element*> order;
@@ -160,9 +162,10 @@ Layout lay_out(const std::vector<Element*>& elements, int threads) {
 
 // What a pass reads and writes of every element, by position (Layout), in dense arrays
 // that it streams through, instead of the elements themselves (456 bytes each, a pass
-// touching four or five of their cache lines in hierarchy order). Built once per
-// propagation from the elements, whose B, gathered and next it writes back at the end
-// (write_back); a cluster's ClusterLight is used where it is.
+// touching four or five of their cache lines in hierarchy order). Made with its layout
+// and kept with it (PropagationCache) while the hierarchy is the same, refreshed from
+// the elements before each pass; a pass writes their B, gathered and next back at the
+// end (write_back). A cluster's ClusterLight is used where it is.
 class PassState {
  public:
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -198,7 +201,7 @@ class PassState {
       const Element& e = *l.order[u];
       Node& d = node_[u];
       d.parent = e.parent ? e.parent->index : kNone;
-      d.first_kid = e.child_count;  // until the prefix sum below
+      d.first_kid = static_cast<std::uint32_t>(e.child_span().size());  // until the sums below
       const bool cluster = e.is_cluster(), parent_cluster = e.parent && e.parent->is_cluster();
       d.flags = static_cast<std::uint8_t>((cluster ? kCluster : 0) |
                                           (e.child_span().empty() ? kLeaf : 0) |
