@@ -202,6 +202,20 @@ TEST_F(HostileInput, TotalReflectanceIsReported) {
   EXPECT_TRUE(contains(hrad::test::read_text(dir_ / "run" / "stats.json"), "no finite solution"));
 }
 
+// Reflectance 0.999 in a closed scene: the light is hundreds of times the emission, and
+// eps x emission asked iteration 2 for over 8 M links (the run: 349 s, 2.1 GB). eps now
+// follows the light where it is over 20 times the emission: iteration 2 makes about
+// 0.47 M links, and the run says why.
+TEST_F(HostileInput, ReflectanceNearOneRefinesBoundedly) {
+  const Result r = hrad(
+      "solve builtin:furnace?rho=0.999 --iterations 2 --set gather_tolerance=1e-3 "
+      "--set image_width=8 --out run --quiet");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "times its emission (reflectance near 1)")) << r.err;
+  const auto j = nlohmann::json::parse(hrad::test::read_text(dir_ / "run" / "stats.json"));
+  EXPECT_LT(j["totals"]["links"].get<double>(), 1e6);
+}
+
 // A run with probes, then one without into the same folder: compare reported the
 // first run's probes as the second's.
 TEST_F(HostileInput, StaleResultFilesAreNeitherKeptNorCompared) {

@@ -100,6 +100,10 @@ class Refiner {
     plan_ = plan;
   }
 
+  /// The oracle's threshold (RefineLimits::eps_power) for the next stages; between
+  /// stages only.
+  void set_eps_power(double eps_power) { limits_.eps_power = eps_power; }
+
   /// While a stage runs, calls `fn` about every `interval_ms` from a thread of its
   /// own (never two calls at once, never after run() returns): refiners publish their
   /// counts once per block, so the figures lag by at most a block each. Without a
