@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace hrad {
@@ -51,7 +53,20 @@ TEST(OpenFraction, FloorUnderABoxIsClosedInAndOpenElsewhere) {
   EXPECT_EQ(under, 1);
 
   std::vector<Element*> all = h.elements();
-  const OpenStats st = update_open_fractions(all, h, rays, 1, 1, true);
+  // Its progress (for the progress line) rises to 1 on the calling thread, two threads
+  // or one giving the same fractions.
+  std::vector<double> shares;
+  const OpenStats st =
+      update_open_fractions(all, h, rays, 1, 2, true, [&](double s) { shares.push_back(s); });
+  ASSERT_FALSE(shares.empty());
+  EXPECT_TRUE(std::is_sorted(shares.begin(), shares.end()));
+  EXPECT_EQ(shares.front(), 0.0);
+  EXPECT_EQ(shares.back(), 1.0);
+  std::vector<float> two;
+  for (const Element* e : all) two.push_back(e->open);
+  for (Element* e : all) e->open = -1;
+  EXPECT_EQ(update_open_fractions(all, h, rays, 1, 1, true).rays_cast, st.rays_cast);
+  for (std::size_t i = 0; i < all.size(); ++i) ASSERT_EQ(all[i]->open, two[i]);
   EXPECT_GT(st.rays_cast, 0u);
   EXPECT_LT(st.area_fraction, 1.0);
   EXPECT_GT(st.area_fraction, 0.85);

@@ -459,12 +459,16 @@ void Solver::Impl::scale_threshold(RunState& r, const std::vector<Element*>& ele
 std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   const SolverOptions& o = options;
   const int it = is.iteration;
-  if (progress)
-    progress(fmt::format("iteration {}/{}: open fractions", it, o.iterations),
-             progress_scale().propagate(it));
+  const ProgressScale scale = progress_scale();
+  const std::string phase = fmt::format("iteration {}/{}: open fractions", it, o.iterations);
+  const auto on_open = [&](double share) {
+    progress(phase, scale.propagate(it, 0.8 * ProgressScale::prepare_share(it) * share));
+  };
+  if (progress) on_open(0);
   std::vector<Element*> elements = hierarchy.elements();
   const OpenStats open =
-      update_open_fractions(elements, hierarchy, rays, o.seed, o.threads, effects.visibility.on);
+      update_open_fractions(elements, hierarchy, rays, o.seed, o.threads, effects.visibility.on,
+                            progress ? std::function<void(double)>(on_open) : nullptr);
   // Row sums measure transport, so their push shares it by geometry; the
   // propagation's push shares light, by the sources' radiosities. A rescale of the
   // row sums (clamp, normalize) must act on the propagation's own operator, so it
@@ -493,7 +497,7 @@ void Solver::Impl::propagate_links(RunState& r, int it, bool last, std::vector<E
                                    IterationStats& is) {
   const SolverOptions& o = options;
   const ProgressScale scale = progress_scale();
-  const double swept = ProgressScale::kPrepareShare;  // the preparation's share
+  const double swept = ProgressScale::prepare_share(it);  // the preparation's share
   const auto on_sweep = [&](int sweeps, double change) {
     // The share of the sweeps is a guess: a sweep count of its own (the number of
     // sweeps is known only at the end) that approaches the stage's end.

@@ -7,7 +7,10 @@
 #include "core/raycast/ray_scene.h"
 #include "core/transport/transport.h"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -138,21 +141,35 @@ double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, cons
 
 OpenStats update_open_fractions(const std::vector<Element*>& elements, const Hierarchy& hierarchy,
                                 const RayScene& rays, std::uint64_t seed, int threads,
-                                bool possible) {
+                                bool possible,
+                                const std::function<void(double share)>& on_progress) {
   OpenStats st;
   std::uint64_t cast = 0;
   const auto n = static_cast<std::ptrdiff_t>(elements.size());
   if (!possible) {
     for (Element* e : elements) e->open = 1;
+    if (on_progress) on_progress(1.0);
     return st;
   }
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 64) reduction(+ : cast)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    Element& e = *elements[static_cast<std::size_t>(i)];
-    if (e.is_cluster() || !e.child_span().empty() || e.open >= 0 || interrupted()) continue;
-    e.open = static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed, &cast));
+  // Chunks of elements taken in turn; the calling thread (OpenMP's thread 0) reports
+  // the chunks taken so far between its own.
+  constexpr std::ptrdiff_t kChunk = 256;
+  std::atomic<std::ptrdiff_t> next{0};
+  if (on_progress) on_progress(0.0);
+#pragma omp parallel num_threads(threads) reduction(+ : cast)
+  {
+    const bool reporter = omp_get_thread_num() == 0 && on_progress;
+    for (std::ptrdiff_t begin; (begin = next.fetch_add(kChunk)) < n && !interrupted();) {
+      if (reporter) on_progress(static_cast<double>(begin) / static_cast<double>(n));
+      for (std::ptrdiff_t i = begin; i < std::min(begin + kChunk, n); ++i) {
+        Element& e = *elements[static_cast<std::size_t>(i)];
+        if (e.is_cluster() || !e.child_span().empty() || e.open >= 0) continue;
+        e.open = static_cast<float>(estimate_open_fraction(e, hierarchy, rays, seed, &cast));
+      }
+    }
   }
   throw_if_interrupted();  // (leaves it skipped keep no estimate)
+  if (on_progress) on_progress(1.0);
   // Children after parents in `elements`: walk backwards.
   for (std::ptrdiff_t i = n; i-- > 0;) {
     Element& e = *elements[static_cast<std::size_t>(i)];

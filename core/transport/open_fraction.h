@@ -39,6 +39,7 @@
 #include "core/hierarchy/element.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace hrad {
@@ -71,10 +72,12 @@ struct OpenStats {
 /// whose estimate is missing get one from rays, every other element the
 /// area-weighted mean of its children. With `possible` false (nothing in the scene
 /// can close a point in: visibility is off for it, see core/config/effects.h) every element
-/// is open (w = 1) and no ray is cast.
+/// is open (w = 1) and no ray is cast. `on_progress`, when given, is called on the
+/// calling thread now and then with the share of `elements` done (the last call: 1).
 OpenStats update_open_fractions(const std::vector<Element*>& elements, const Hierarchy& hierarchy,
                                 const RayScene& rays, std::uint64_t seed, int threads,
-                                bool possible);
+                                bool possible,
+                                const std::function<void(double share)>& on_progress = {});
 
 /// The estimate for one surface element, in [0, 1]; adds the rays it cast to
 /// `rays_cast` when given (a contact ray per point, then up to kOpenRays per point and
