@@ -22,7 +22,7 @@ for ax, scene in zip(axes, scenes):
             label = f"iteration {it}" + (f", {var}" if var else "")
             common.errorbar(ax, xs, [stats[(it, t)] for t in xs], label=label)
     common.threads_axis(ax, common.unique(rows, "threads"))
-    ax.set_ylabel("CPU refinement time, summed over refiners (s)")
+    ax.set_ylabel("refinement CPU time, all refiners (s)")
     ax.set_ylim(bottom=0)
     ax.set_title(common.scene_label(scene))
     ax.legend()
