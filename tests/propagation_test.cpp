@@ -192,6 +192,20 @@ TEST(Propagation, ChebyshevAccelerationOnARealSpectrum) {
   for (const Element* e : hinted.els) EXPECT_NEAR(e->B[0], 10.0, 1e-10) << e->id;
 }
 
+// Near 1 (q = 0.999, a closed furnace of that reflectance) the first accelerated
+// sweeps' changes rise about ninefold before they fall: the acceleration keeps going
+// (it gave up at eight times the smallest change, and plain sweeps, 0.999^k, needed
+// thousands) and reaches the closed form 1000 in a few hundred sweeps.
+TEST(Propagation, ChebyshevAccelerationNearOne) {
+  Pair p(0.999, 1.0, 1.0f);
+  const PropagationResult r = propagate(p.els, 1e-10, 100000, 1);
+  EXPECT_TRUE(r.converged);
+  EXPECT_TRUE(r.accelerated);
+  EXPECT_NEAR(r.contraction, 0.999, 1e-6);
+  EXPECT_LT(r.sweeps, 600);
+  for (const Element* e : p.els) EXPECT_NEAR(e->B[0], 1000.0, 1e-4) << e->id;
+}
+
 // Told a contraction below the truth (0.5 for 0.9), the acceleration sees its sweeps
 // fall too slowly, finds the interval again and still converges to the closed form.
 TEST(Propagation, ChebyshevFindsAnUnderestimatedContraction) {
