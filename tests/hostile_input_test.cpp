@@ -255,6 +255,14 @@ TEST_F(HostileInput, ExperimentsResumeAsMadeAndCheckScenesFirst) {
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "different configuration")) << r.err;
   EXPECT_FALSE(contains(r.err, "resume with")) << r.err;
+  // A folder written by a version with other columns: refused, and no resume command.
+  std::string runs = hrad::test::read_text(dir_ / "x" / "runs.csv");
+  runs.replace(runs.find(",hrad_revision"), 14, "");
+  write("x/runs.csv", runs);
+  r = hrad("experiment t.json --quick --set eps=0.02 --resume x --no-plot");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "the header differs from this hrad's columns")) << r.err;
+  EXPECT_FALSE(contains(r.err, "resume with")) << r.err;
 
   write("nope.json", R"({"name": "n", "scenes": ["builtin:cornell", "builtin:nope"]})");
   r = hrad("experiment nope.json --out y");
