@@ -20,20 +20,18 @@
 #include "core/scene/scene_loader.h"
 #include "experiments/commands.h"
 #include "experiments/harness/core_share.h"
-#include "experiments/harness/csv.h"
 #include "experiments/harness/experiment_config.h"
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/manifest.h"
 #include "experiments/harness/mpi_sweep.h"
 #include "experiments/harness/plot_runner.h"
-#include "experiments/harness/run_rows.h"
+#include "experiments/harness/result_files.h"
 #include "experiments/harness/sweep.h"
 
 #include <fmt/format.h>
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,13 +56,10 @@ bool resumable(const fs::path& dir, const ExperimentConfig& config) {
   try {
     const auto m = read_manifest(dir);
     // A folder whose runs.csv has another version's columns cannot be resumed either.
-    std::string header;
-    std::ifstream runs(dir / "runs.csv");
-    std::getline(runs, header);
     return m.value("runs_done", 0) > 0 &&
            m.value("/experiment/config"_json_pointer, nlohmann::ordered_json()) ==
                experiment_config_to_json(config) &&
-           header + "\n" == csv_line(run_columns());
+           runs_header_matches(dir);
   } catch (const std::exception&) {
     return false;
   }

@@ -38,6 +38,7 @@ struct RenderArgs {
 
 // What a solve's stats.json says about its picture; empty when RESULT has none.
 struct SolvedPicture {
+  fs::path dir;                  // RESULT, or the folder of the solution.ply given
   fs::path mesh;                 // the solution.ply
   std::string camera_spec;       // camera.spec
   Vec3 up = Vec3(0, 1, 0);       // camera.up: the default up of a new camera
@@ -48,15 +49,15 @@ struct SolvedPicture {
 
 SolvedPicture read_result(const fs::path& result) {
   SolvedPicture p;
-  fs::path dir = result;
+  p.dir = result;
   if (fs::is_regular_file(result)) {
     p.mesh = result;
-    dir = result.parent_path().empty() ? fs::path(".") : result.parent_path();
+    p.dir = result.parent_path().empty() ? fs::path(".") : result.parent_path();
   } else if (!fs::is_directory(result)) {
     throw std::invalid_argument(
         fmt::format("{}: neither a solve's output folder nor a solution.ply", result.string()));
   }
-  const fs::path stats = dir / "stats.json";
+  const fs::path stats = p.dir / "stats.json";
   std::ifstream in(stats);
   if (!in) {
     if (p.mesh.empty())
@@ -79,7 +80,7 @@ SolvedPicture read_result(const fs::path& result) {
     if (!mesh || !mesh->is_string())
       throw std::invalid_argument(fmt::format(
           "{}: lists no mesh under outputs (the solve wrote no solution.ply)", stats.string()));
-    p.mesh = dir / mesh->get<std::string>();
+    p.mesh = p.dir / mesh->get<std::string>();
   }
   if (const nlohmann::json* c = str(j, "camera"); c && c->is_object()) {
     if (const nlohmann::json* s = str(*c, "spec"); s && s->is_string())
@@ -134,8 +135,7 @@ int run_render(const RenderArgs& a) {
       throw std::invalid_argument(
           fmt::format("--width {}: rendering {} x {} pixels needs about {:.3g} GB, above {}", width,
                       width, height, need / 1e9, memory_limit_text(limit)));
-    const fs::path dir = fs::is_directory(a.result) ? fs::path(a.result) : p.mesh.parent_path();
-    const fs::path image = a.image.empty() ? dir / "rerender.png" : fs::path(a.image);
+    const fs::path image = a.image.empty() ? p.dir / "rerender.png" : fs::path(a.image);
     if (fs::exists(image) && fs::equivalent(image, p.mesh))
       throw std::invalid_argument(fmt::format("--image {} is the mesh itself", image.string()));
 

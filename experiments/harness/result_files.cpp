@@ -34,11 +34,16 @@ int to_int(const std::string& text, const fs::path& path, std::size_t line, cons
   return v;
 }
 
+// Whether a result CSV's first row is `columns`.
+bool header_is(const CsvText& csv, const std::vector<std::string>& columns) {
+  return !csv.rows.empty() && csv.rows[0] == columns;
+}
+
 // Reads a result CSV: checks the header, returns the complete rows (the header excluded).
 std::vector<Row> read_rows(const fs::path& path, const std::vector<std::string>& columns) {
   const CsvText csv = parse_csv(read_text(path));
   if (csv.rows.empty()) return {};  // only a cut-off header: start again
-  if (csv.rows[0] != columns)
+  if (!header_is(csv, columns))
     throw std::runtime_error(fmt::format(
         "{}: the header differs from this hrad's columns (written by another version?); "
         "resume into a new folder",
@@ -62,6 +67,13 @@ void write_all(const fs::path& path, const std::vector<std::string>& columns,
 }
 
 }  // namespace
+
+bool runs_header_matches(const fs::path& dir) {
+  std::ifstream in(dir / ResultFiles::kRuns, std::ios::binary);
+  std::string header;
+  if (!std::getline(in, header)) return false;
+  return header_is(parse_csv(header + "\n"), run_columns());
+}
 
 ResultFiles::ResultFiles(const fs::path& dir) : dir_(dir) {
   const fs::path runs = dir / kRuns, iterations = dir / kIterations;

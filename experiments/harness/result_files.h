@@ -19,6 +19,10 @@
 
 namespace hrad::experiment {
 
+/// Whether `dir`'s runs.csv has this hrad's columns (run_columns()) as its header, the
+/// check ResultFiles makes when it reopens the folder; false when it has none.
+[[nodiscard]] bool runs_header_matches(const std::filesystem::path& dir);
+
 class ResultFiles {
  public:
   /// Opens (or creates) runs.csv and iterations.csv in `dir`, which must exist.
