@@ -110,6 +110,27 @@ TEST(PropagationCache, KeptStateGivesWhatAFreshOneGives) {
   }
 }
 
+// The gather matrix push_transport leaves serves the one propagation that follows it:
+// a later one, after the links changed, gathers over the new links.
+TEST(PropagationCache, TheRowSumsMatrixServesOnePropagation) {
+  Refined r("builtin:cornell", 1e-3);
+  PropagationCache cache;
+  push_transport(r.elements, ClusterReceiver::Cosine, 1, &cache);
+  r.restart();
+  propagate(r.elements, 1e-6, 100, 1, ClusterReceiver::Cosine, false, {}, 0, &cache);
+  const std::vector<Rgb> lit = r.radiosity();
+  r.hierarchy.release_links(r.elements);
+  r.restart();
+  propagate(r.elements, 1e-6, 100, 1, ClusterReceiver::Cosine, false, {}, 0, &cache);
+  const std::vector<Rgb> kept = r.radiosity();
+  r.restart();
+  propagate(r.elements, 1e-6, 100, 1, ClusterReceiver::Cosine);
+  expect_same(kept, r.radiosity(), "propagate after the links went");
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < lit.size(); ++i) moved += (lit[i] != kept[i]).any() ? 1 : 0;
+  EXPECT_GT(moved, lit.size() / 2) << "without links nothing is reflected";
+}
+
 // A cache made for one thread count, or for other elements, is made again.
 TEST(PropagationCache, OtherThreadsOrElementsMakeItAgain) {
   Refined cornell("builtin:cornell", 1e-3);

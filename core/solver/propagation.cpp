@@ -458,36 +458,6 @@ SweepChange take_total(std::vector<SweepChange>& per_part) {
   return total;
 }
 
-// The transport of one element's own links (or, for a cluster in Cosine mode, zero,
-// and the transport split along the axes into `light->arriving`): in channel 0 per
-// unit of area, in channels 1 and 2 per unit of open area (core/transport/open_fraction.h),
-// so that one pass gives the row sums both ways (core/solver/row_sums.h).
-Rgb transport_gathered(Element& e, bool cosine) {
-  if (cosine && e.is_cluster()) {
-    // Undo the link's mean cosine and split the irradiance a unit surface facing the
-    // source would get along the axes. The mean cosine is over the members' area, or
-    // their open area, so the members (their open parts) receive in total what the link
-    // delivers to the cluster.
-    std::array<Rgb, 6>& dir = e.light->arriving;
-    dir.fill(Rgb::Zero());
-    for (const Link& l : e.links) {
-      const Vec3 d = (l.source->center - e.center).normalized();
-      const double whole = e.projected_area(d), open = e.light->projected_open_area(d);
-      const double t = l.transport();
-      const double per_whole = whole > 0 ? t * (e.area / whole) : 0.0;
-      const double per_open = open > 0 ? t * (e.area / open) : 0.0;
-      const Rgb facing(per_whole, per_open, per_open);
-      for (int a = 0; a < 3; ++a)
-        dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
-    }
-    return Rgb::Zero();
-  }
-  double g = 0;
-  for (const Link& l : e.links) g += l.transport();
-  const double open = open_gain(e) * g;
-  return Rgb(g, open, open);
-}
-
 template <class V>
 V channels(const Rgb& x) {
   if constexpr (std::is_same_v<V, double>) {
@@ -537,10 +507,16 @@ class GatherMatrix {
       }
     }
     slots_ = slot;
+    link_total_.assign(elements.size(), 0.0);
+    if (cosine_) {
+      std::array<Rgb, 6> none;
+      none.fill(Rgb::Zero());
+      arriving_.assign((slots_ - first_axis_slot()) / 6, none);
+    }
     // One pass over the links (each reads its source's element, a cache miss): a chunk
     // of elements collects its entries row by row in a thread's scratch lists, then
     // keeps exact-size copies. (Counting the entries first, to fill one array, read
-    // every source twice.)
+    // every source twice.) The links' transport is summed on the way (transport()).
     chunks_.resize((elements.size() + kChunk - 1) / kChunk);
     const auto chunks = static_cast<std::ptrdiff_t>(chunks_.size());
 #pragma omp parallel num_threads(threads)
@@ -566,6 +542,7 @@ class GatherMatrix {
               __builtin_prefetch(ahead->source);
               ++ahead;
             }
+            add_transport(e, l, i);
             entries(e, l, [&](std::size_t k, std::uint32_t slot_of, double w) {
               own[k].push_back(Entry{slot_of, static_cast<float>(w)});
             });
@@ -583,6 +560,22 @@ class GatherMatrix {
   }
 
   [[nodiscard]] std::size_t slots() const { return slots_; }
+
+  /// The transport of the own links of the element e at position i (or, for a cluster
+  /// in Cosine mode, zero, and the transport split along the axes into
+  /// `light->arriving`): in channel 0 per unit of area, in channels 1 and 2 per unit of
+  /// open area (core/transport/open_fraction.h), so that one pass gives the row sums
+  /// both ways (core/solver/row_sums.h). From the sums the build made: the row sums'
+  /// pass reads no link.
+  Rgb transport(std::size_t i, Element& e) const {
+    if (by_axis(e)) {
+      e.light->arriving = arriving_[(axis_[i] - first_axis_slot()) / 6];
+      return Rgb::Zero();
+    }
+    const double g = link_total_[i];
+    const double open = open_gain(e) * g;
+    return Rgb(g, open, open);
+  }
 
   /// Writes the slots of `values` of the element at position i from its B and
   /// directional sums.
@@ -616,8 +609,31 @@ class GatherMatrix {
   [[nodiscard]] bool by_axis(const PassState& s, std::size_t i) const {
     return cosine_ && s.cluster(i);
   }
+  [[nodiscard]] bool by_axis(const Element& e) const { return cosine_ && e.is_cluster(); }
+  [[nodiscard]] bool cosine() const { return cosine_; }
 
  private:
+  // Adds link l of the element e at position i to its transport sums (transport()).
+  void add_transport(const Element& e, const Link& l, std::size_t i) {
+    const double t = l.transport();
+    if (!by_axis(e)) {
+      link_total_[i] += t;
+      return;
+    }
+    // Undo the link's mean cosine and split the irradiance a unit surface facing the
+    // source would get along the axes. The mean cosine is over the members' area, or
+    // their open area, so the members (their open parts) receive in total what the link
+    // delivers to the cluster.
+    const Vec3 d = (l.source->center - e.center).normalized();
+    const double whole = e.projected_area(d), open = e.light->projected_open_area(d);
+    const double per_whole = whole > 0 ? t * (e.area / whole) : 0.0;
+    const double per_open = open > 0 ? t * (e.area / open) : 0.0;
+    const Rgb facing(per_whole, per_open, per_open);
+    std::array<Rgb, 6>& dir = arriving_[(axis_[i] - first_axis_slot()) / 6];
+    for (int a = 0; a < 3; ++a)
+      dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
+  }
+
   [[nodiscard]] std::size_t rows_of(const Element& e) const {
     return cosine_ && e.is_cluster() ? 6 : 1;
   }
@@ -670,6 +686,9 @@ class GatherMatrix {
              t * part[static_cast<std::size_t>(a)] / sum);
   }
 
+  // The first axis slot: one past the elements' own.
+  [[nodiscard]] std::size_t first_axis_slot() const { return first_row_.size() - 1; }
+
   struct Entry {
     std::uint32_t slot;  // of the value it weighs
     float weight;
@@ -686,6 +705,8 @@ class GatherMatrix {
   std::vector<std::size_t> first_row_;  // rows of elements[i]: first_row_[i] .. first_row_[i + 1]
   std::vector<Chunk> chunks_;           // elements[i]'s rows in chunks_[i / kChunk]
   std::vector<std::uint32_t> axis_;     // per element: its first axis slot (clusters)
+  std::vector<double> link_total_;      // per element: the transport of its own links
+  std::vector<std::array<Rgb, 6>> arriving_;  // cosine: per cluster, the links' transport by axis
   std::size_t slots_ = 0;
 };
 
@@ -697,10 +718,14 @@ class GatherMatrix {
 // the elements their radiosity at the end.
 class Sweeper {
  public:
-  Sweeper(PassState& state, int threads, ClusterReceiver mode, bool grey)
+  // `matrix`: the gather matrix of these elements' links when one was built (by
+  // push_transport), else one is built here.
+  Sweeper(PassState& state, int threads, ClusterReceiver mode, bool grey,
+          std::optional<GatherMatrix> matrix = std::nullopt)
       : layout_(state.layout()),
         state_(state),
-        matrix_(layout_.order, threads, mode == ClusterReceiver::Cosine),
+        matrix_(matrix ? std::move(*matrix)
+                       : GatherMatrix(layout_.order, threads, mode == ClusterReceiver::Cosine)),
         cosine_(mode == ClusterReceiver::Cosine),
         grey_(grey) {
     if (grey_) {
@@ -837,12 +862,24 @@ struct PropagationCache::Impl {
   std::vector<Element*> elements;
   std::optional<Layout> layout;
   std::optional<PassState> state;
+  /// The gather matrix push_transport built, for the propagation that follows it (the
+  /// links have not changed in between); that propagation takes it.
+  std::optional<GatherMatrix> matrix;
+
+  // The matrix push_transport left, if it is for this mode; it is gone afterwards.
+  std::optional<GatherMatrix> take_matrix(ClusterReceiver mode) {
+    std::optional<GatherMatrix> m;
+    if (matrix && matrix->cosine() == (mode == ClusterReceiver::Cosine)) m = std::move(matrix);
+    matrix.reset();
+    return m;
+  }
 
   PassState& prepare(const std::vector<Element*>& list, int threads) {
     if (state && layout->parts == std::max(threads, 1) && list == elements) {
       state->refresh(threads);
       return *state;
     }
+    matrix.reset();
     state.reset();
     layout.reset();
     elements.clear();
@@ -860,12 +897,14 @@ void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode,
                     PropagationCache* cache) {
   const bool cosine = mode == ClusterReceiver::Cosine;
   PropagationCache own;
-  PassState& s = (cache ? *cache : own).impl_->prepare(elements, threads);
+  PropagationCache::Impl& c = *(cache ? *cache : own).impl_;
+  PassState& s = c.prepare(elements, threads);
   const Layout& l = s.layout();
+  // The propagation that follows gathers over the same matrix: it is built here, and
+  // the pass reads the links' transport from the sums it makes on the way.
+  const GatherMatrix& m = c.matrix.emplace(l.order, threads, cosine);
   std::vector<SweepChange> per_part(static_cast<std::size_t>(l.parts) + 1);
-  const auto gather = [&](std::size_t i) {
-    s.gathered(i) = transport_gathered(*l.order[i], cosine);
-  };
+  const auto gather = [&](std::size_t i) { s.gathered(i) = m.transport(i, *l.order[i]); };
   const auto none = [](std::size_t) {};
   in_team(l.parts, [&](int me, int team, TeamBarrier& barrier) {
     if (me == 0) down(s, 0, l.top, cosine, gather);
@@ -894,8 +933,9 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
   PropagationResult r;
   if (max_sweeps < 1 || interrupted()) return r;
   PropagationCache own;
-  Sweeper sweeper((cache ? *cache : own).impl_->prepare(elements, threads), threads, mode,
-                  grey);  // links do not change here
+  PropagationCache::Impl& c = *(cache ? *cache : own).impl_;
+  PassState& state = c.prepare(elements, threads);
+  Sweeper sweeper(state, threads, mode, grey, c.take_matrix(mode));  // links do not change here
   double previous = 0, previous_change = 0, previous_q = 0;
   int growing = 0;
   // Chebyshev acceleration over [-a, a], a the plain sweeps' contraction (given, or

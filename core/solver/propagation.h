@@ -69,7 +69,10 @@ inline constexpr double kMaxContraction = 0.9999;
 /// What a run's passes (push_transport, propagate) keep from one to the next: the
 /// elements' order for a pass and what a pass reads of them, in dense arrays. Kept while
 /// the elements are the same (the same list, so the same hierarchy) and then only
-/// refreshed from them; made again otherwise. A pass given none makes its own.
+/// refreshed from them; made again otherwise. A pass given none makes its own. Also the
+/// gather matrix that push_transport builds from the links (it reads their transport
+/// from it): the next propagate with this cache gathers over it and lets it go, so the
+/// links must not change between the two (the solver refines before push_transport).
 class PropagationCache {
  public:
   PropagationCache();
