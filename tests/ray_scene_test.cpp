@@ -108,6 +108,48 @@ TEST(RayScene, AnswersDoNotDependOnScaleOrPosition) {
   }
 }
 
+// A tiny triangle 30,000 units away made the bounding box 5e4 across, and the
+// tolerances relative to it (a contact reach of 8 units) swallowed a unit scene. Given
+// the bulk of the area, the frame and the tolerances follow it: the answers near the
+// bulk are those of the scene without the far triangle, at grazing angles too.
+TEST(RayScene, TolerancesFollowTheBulkWhenLittleGeometryIsFarAway) {
+  Soup far = square_and_triangle();
+  far.add({{3e4, 3e4, 3e4}, {3e4 + 0.1, 3e4, 3e4}, {3e4, 3e4 + 0.1, 3e4}});
+  Aabb bulk;
+  for (const Vec3& v : square_and_triangle().vertices) bulk.extend(v);
+  const RayScene ref = square_and_triangle().build();
+  const RayScene rs(far.vertices, far.indices, far.polys, RayScene::Build::Quality, {}, &bulk);
+  EXPECT_TRUE(rs.local_frame());
+  EXPECT_NEAR(rs.scale(), RayScene::kLocalFrame * bulk.diagonal(), 1e-12);
+  EXPECT_FALSE(far.build().local_frame());  // without the bulk: the whole box
+  EXPECT_GT(far.build().scale(), 5e4);
+  for (const Query& q : standard_queries())
+    EXPECT_EQ(rs.occluded(q.from, q.to), ref.occluded(q.from, q.to))
+        << q.from.transpose() << " -> " << q.to.transpose();
+  EXPECT_TRUE(rs.occluded({0.5, 0.5, 1}, {0.5, 0.5, -1e-3}));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  int wrong = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const Vec3 on(0.1 + 0.8 * uni(rng), 0.1 + 0.8 * uni(rng), 0);
+    const double elevation = (0.1 + 89.9 * uni(rng)) * std::numbers::pi / 180.0;
+    const double azimuth = 2 * std::numbers::pi * uni(rng);
+    const Vec3 dir(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                   std::sin(elevation));
+    wrong += rs.occluded(on + (0.05 + 2 * uni(rng)) * dir, on) ? 1 : 0;
+  }
+  EXPECT_EQ(wrong, 0);
+  // The far triangle is still met, from near and from the bulk.
+  const auto near = rs.intersect({3e4 + 0.02, 3e4 + 0.02, 3e4 + 1}, {0, 0, -1});
+  ASSERT_TRUE(near);
+  EXPECT_EQ(near->prim, 2u);
+  EXPECT_NEAR(near->t, 1, 1e-2);
+  const Vec3 to(3e4 + 0.02, 3e4 + 0.02, 3e4);
+  const auto from_bulk = rs.intersect({0.5, 0.5, 1}, to - Vec3(0.5, 0.5, 1));
+  ASSERT_TRUE(from_bulk);
+  EXPECT_EQ(from_bulk->prim, 2u);
+}
+
 TEST(RayScene, IntersectTriangleGivesPrimDistanceAndBarycentrics) {
   Soup s;
   s.add({{5, 5, 5}, {6, 5, 5}, {5, 6, 5}});  // prim 0, out of the way

@@ -114,6 +114,11 @@ struct RayScene::Impl {
   Vec3 centre = Vec3::Zero();
   double diagonal = 0;   // world units
   double inv_scale = 1;  // world -> normalised frame
+  double tolerance = 0;  // scale(), world units
+  // kEndpointEpsilon * scale() in the normalised frame; and whether the frame is the
+  // bulk's (then a ray's exclusion also grows with its distance from the centre).
+  double epsilon = kEndpointEpsilon;
+  bool local = false;
   std::size_t polygons = 0;
 
   // Embree primID -> input polygon (and fan triangle for polygons of > 4 vertices).
@@ -158,6 +163,15 @@ struct RayScene::Impl {
 
   std::uint32_t twin_of(std::uint32_t p) const { return p >= twin.size() ? kNoPolygon : twin[p]; }
 
+  /// The end-point exclusion, normalised, for a ray from normalised point a to b: what
+  /// single precision resolves there, if that is more than `epsilon` (only in a bulk's
+  /// frame: elsewhere every point lies within 1/2 of the centre, where it never is).
+  double exclusion(const Vec3& a, const Vec3& b) const {
+    if (!local) return epsilon;
+    const double far = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
+    return std::max(epsilon, kPrecisionUlps * far * std::numeric_limits<float>::epsilon());
+  }
+
   /// A context that ignores polygons a and b and their twins, and with `front_of_twins`
   /// the backs of polygons with a twin (no filter when there is nothing to reject).
   void init_context(IgnoreContext& c, std::uint32_t a, std::uint32_t b, bool front_of_twins) const {
@@ -198,7 +212,7 @@ struct RayScene::Impl {
 
 RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t> indices,
                    std::span<const PolygonRange> polygons, Build build,
-                   std::span<const std::uint32_t> twins)
+                   std::span<const std::uint32_t> twins, const Aabb* bulk)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.polygons = polygons.size();
@@ -232,10 +246,18 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
   if (!box.empty()) {
     m.centre = box.center();
     m.diagonal = box.diagonal();
+    m.tolerance = m.diagonal;
     if (m.diagonal > 0) m.inv_scale = 1.0 / m.diagonal;
+    if (bulk && !bulk->empty() && bulk->diagonal() > 0 &&
+        m.diagonal > kLocalFrame * bulk->diagonal()) {
+      m.local = true;
+      m.centre = bulk->center();
+      m.tolerance = kLocalFrame * bulk->diagonal();
+      m.epsilon = kEndpointEpsilon * m.tolerance * m.inv_scale;
+    }
   }
 
-  m.contact = find_face_contacts(vertices, indices, polygons, m.twin, kContactReach * m.diagonal);
+  m.contact = find_face_contacts(vertices, indices, polygons, m.twin, kContactReach * m.tolerance);
 
   // Split into Embree primitives and record the double-precision planes.
   std::vector<std::uint32_t> tri_idx, quad_idx;
@@ -309,14 +331,17 @@ RayScene RayScene::from_scene(const Scene& scene, Build build) {
   for (const Face& f : scene.faces) polys.push_back({f.first, f.count});
   const std::vector<std::uint32_t> twins = find_twins(scene);
   static_assert(kNoTwin == kNoPolygon);
-  return RayScene(scene.vertices, scene.indices, polys, build, twins);
+  const Aabb bulk = scene.bulk_bounds();
+  return RayScene(scene.vertices, scene.indices, polys, build, twins, &bulk);
 }
 
 RayScene::RayScene(RayScene&&) noexcept = default;
 RayScene& RayScene::operator=(RayScene&&) noexcept = default;
 RayScene::~RayScene() = default;
 
-double RayScene::scale() const { return impl_->diagonal; }
+double RayScene::scale() const { return impl_->tolerance; }
+
+bool RayScene::local_frame() const { return impl_->local; }
 
 std::size_t RayScene::polygon_count() const { return impl_->polygons; }
 
@@ -381,10 +406,11 @@ bool RayScene::occluded(const Vec3& from, const Vec3& to, std::uint32_t ignore_a
   const Vec3 d = (to - from) * m.inv_scale;
   const double len = d.norm();
   assert(std::isfinite(len) && "occluded() needs finite end points");
-  // In the normalised frame the diagonal is 1, so kEndpointEpsilon is already a
-  // distance; dividing by len turns it into the parameter along d.
-  if (!(len > 2 * kEndpointEpsilon) || m.polygons == 0) return false;
-  const double margin = kEndpointEpsilon / len;
+  // The exclusion is a distance in the normalised frame; dividing by len turns it into
+  // the parameter along d.
+  const double epsilon = m.exclusion(o, o + d);
+  if (!(len > 2 * epsilon) || m.polygons == 0) return false;
+  const double margin = epsilon / len;
 
   IgnoreContext ctx;
   m.init_context(ctx, ignore_a, ignore_b, /*front_of_twins=*/false);
@@ -414,11 +440,13 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
   const double len = d.norm();
   if (!(len > 0) || !std::isfinite(len))
     throw std::invalid_argument("RayScene::intersect: direction must be finite and non-zero");
-  const double tnear = kEndpointEpsilon / len;
+  double epsilon = m.exclusion(o, o);
+  const double tnear = epsilon / len;
   if (m.polygons == 0 || !(tmax >= tnear)) return std::nullopt;
   // From far away (a camera 1e30 from a scene 555 across: 2e27 in the normalised frame,
   // past the 1.8e19 Embree's rays may start at, and its assertion ended the process)
-  // the ray starts anew just outside the scene's sphere (radius 1/2 about the centre),
+  // the ray starts anew just outside the scene's sphere (radius 1/2 about the centre, 1
+  // about a bulk's centre),
   // and its distances count from there.
   double skipped = 0;  // normalised distance along the ray from `o` to the new start
   if (o.cwiseAbs().maxCoeff() > kFarOrigin) {
@@ -428,7 +456,8 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
     // (From the nearest point, not `o + skipped u`: at 1e30, along - 1 is along.)
     skipped = along - 1;
     o = (o + along * u) - u;
-    if (!(tmax * len - skipped >= kEndpointEpsilon)) return std::nullopt;
+    epsilon = m.exclusion(o, o);
+    if (!(tmax * len - skipped >= epsilon)) return std::nullopt;
   }
   // Embree takes a unit direction here (its rays must have |dir| below 1.8e18: a
   // direction of length 1 in a scene 1e-20 across is 6e19 in the normalised frame,
@@ -445,7 +474,7 @@ std::optional<RayHit> RayScene::intersect(const Vec3& origin, const Vec3& dir, d
   rh.ray.dir_x = static_cast<float>(u.x());
   rh.ray.dir_y = static_cast<float>(u.y());
   rh.ray.dir_z = static_cast<float>(u.z());
-  rh.ray.tnear = static_cast<float>(kEndpointEpsilon);
+  rh.ray.tnear = static_cast<float>(epsilon);
   rh.ray.tfar = to_float_distance(tmax * len - skipped);
   rh.ray.time = 0;
   rh.ray.mask = ~0u;

@@ -48,8 +48,9 @@ struct PolygonRange {
 class RayScene {
  public:
   /// Segment end points (and ray origins) are excluded by this distance, relative to
-  /// the scene's bounding-box diagonal: hits closer than kEndpointEpsilon * scale()
-  /// to either end are ignored. Single precision places a point to about 1e-7 of the
+  /// the scene's tolerance scale (scale(): its bounding-box diagonal, or near its bulk
+  /// when a little geometry lies far from the rest, see the constructor): hits closer
+  /// than kEndpointEpsilon * scale() to either end are ignored. Single precision places a point to about 1e-7 of the
   /// diagonal; with 1e-5, a segment ending on a surface is not reported as occluded by
   /// that surface down to grazing angles of about 0.1 degree (tested; 1e-6 fails below
   /// about 1 degree). The price: an occluder within 1e-5 of the diagonal of an end
@@ -75,10 +76,22 @@ class RayScene {
   /// Ignoring one of a pair ignores both, and intersect() never reports the back of a
   /// polygon that has a twin: the ray meets the twin's front there instead. Throws
   /// std::invalid_argument when `twins` has the wrong size or is not symmetric.
+  ///
+  /// `bulk`, when given, is the box that holds most of the area (Scene::bulk_bounds).
+  /// When the bounding box's diagonal D is more than kLocalFrame times bulk's, the
+  /// tolerances follow the bulk: scale() is kLocalFrame times bulk's diagonal, and the
+  /// single-precision frame is centred on it, so that a little geometry far away (a
+  /// 0.1-unit triangle 30,000 units from a unit room) does not make every distance in
+  /// the room a contact. Far from the bulk, where single precision cannot resolve
+  /// that, a ray's exclusion grows with its end points' distance from the bulk's
+  /// centre (kPrecisionUlps units in the last place of the larger).
   RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t> indices,
            std::span<const PolygonRange> polygons, Build build = Build::Quality,
-           std::span<const std::uint32_t> twins = {});
-  /// All faces of the scene, with their twins (find_twins); prim ids are face indices.
+           std::span<const std::uint32_t> twins = {}, const Aabb* bulk = nullptr);
+  static constexpr double kLocalFrame = 10;
+  static constexpr double kPrecisionUlps = 32;
+  /// All faces of the scene, with their twins (find_twins) and its bulk
+  /// (Scene::bulk_bounds); prim ids are face indices.
   static RayScene from_scene(const Scene& scene, Build build = Build::Quality);
 
   RayScene(RayScene&&) noexcept;
@@ -112,8 +125,12 @@ class RayScene {
       const Vec3& origin, const Vec3& dir, double tmax = std::numeric_limits<double>::infinity(),
       std::uint32_t ignore = kNoPolygon) const;
 
-  /// Bounding-box diagonal D of all vertices referenced by polygons (0 when empty).
+  /// The tolerance scale: the bounding-box diagonal D of all vertices referenced by
+  /// polygons (0 when empty), or kLocalFrame times the bulk's diagonal when that is
+  /// smaller (see the constructor).
   [[nodiscard]] double scale() const;
+  /// Whether scale() follows the bulk rather than the bounding box.
+  [[nodiscard]] bool local_frame() const;
   [[nodiscard]] std::size_t polygon_count() const;
   /// The twin of polygon `poly` (see the constructor), or kNoPolygon.
   [[nodiscard]] std::uint32_t twin(std::uint32_t poly) const;

@@ -31,6 +31,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -326,16 +327,19 @@ void Solver::Impl::warn_about_scene(RunStats& stats) const {
                                      "effects = all)"
                                    : "scene has no emitter: the solution is zero; nothing was "
                                      "refined or propagated");
-  // Ray tolerances (and Embree's float precision) are relative to the bounding box: a
-  // little geometry far from the rest (a triangle 30,000 units from a unit room) makes
-  // them coarse where the area is, and the room's walls took each other for contacts.
+  // Ray tolerances follow the bulk of the scene when a little geometry lies far from
+  // the rest (a triangle 30,000 units from a unit room: relative to the bounding box,
+  // the room's walls took each other for contacts and lost a third of its light), but
+  // single precision resolves the far-off geometry only coarsely (RayScene).
   const double whole = scene.bounds().diagonal(), bulk = scene.bulk_bounds().diagonal();
   if (bulk > 0 && whole > kBulkRatioWarning * bulk)
     stats.warnings.push_back(fmt::format(
         "98 % of the scene's area lies within {:.3g} units, but its bounding box is {:.3g} "
-        "across ({:.0f} times more): ray tolerances and float precision are relative to the "
-        "whole box, too coarse for the bulk of the scene; remove the far-off geometry",
-        bulk, whole, whole / bulk));
+        "across ({:.0f} times more): ray tolerances follow the bulk of the scene, but geometry "
+        "far from it is resolved only to about {:.2g} units; remove the far-off geometry if "
+        "it matters",
+        bulk, whole, whole / bulk,
+        RayScene::kPrecisionUlps * std::numeric_limits<float>::epsilon() * whole));
   // B = E + rho K B has no finite solution when rho K can keep all light (rho = 1 in a
   // closed scene): the sweeps then never converge; the propagation reports divergence
   // when the change stops falling (core/solver/propagation.h), or stops at the cap.
