@@ -201,6 +201,50 @@ TEST_F(HostileInput, FarOffGeometryIsReported) {
   EXPECT_FALSE(contains(r.err, "98 %")) << r.err;
 }
 
+// A 200 x 200 ground plane beside a closed unit room made min_area (a share of the whole
+// area) 4 units^2, larger than each wall: the room was not refined at all (10 elements)
+// and its probes came out up to 9 % high. The oracle may now refine any polygon a few
+// levels deep; where min_area still stops it, the run says so.
+TEST_F(HostileInput, ALargeGroundDoesNotStarveARoom) {
+  write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
+  write("p.txt",
+        "0.3 0.6 0 0 0 1\n0.7 0.2 1 0 0 -1\n1 0.4 0.5 -1 0 0\n0.5 1 0.8 0 -1 0\n"
+        "0.9 0.9 0 0 0 1\n0.1 0.5 1 0 0 -1\n");
+  write("room.obj", box_obj(""));
+  write("ground.obj", box_obj("") +
+                          "usemtl wall\nv -100 -100 -0.01\nv 100 -100 -0.01\nv 100 100 -0.01\n"
+                          "v -100 100 -0.01\nf 12 11 10 9\n");
+  Result r = hrad("solve ground.obj --probes p.txt --out run --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "min_area (4 units^2, 0.0001 of the scene's 4e+04 units^2) stopped"))
+      << r.err;
+  r = hrad("solve room.obj --probes p.txt --out alone --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(contains(r.err, "min_area")) << r.err;
+  const auto irradiance = [&](const fs::path& csv_file) {
+    const std::string csv = hrad::test::read_text(csv_file);
+    std::vector<double> e;
+    for (std::size_t row = csv.find('\n') + 1; row < csv.size(); row = csv.find('\n', row) + 1) {
+      std::size_t col = row;
+      for (int k = 0; k < 6; ++k) col = csv.find(',', col) + 1;
+      e.push_back(std::stod(csv.substr(col)));
+    }
+    return e;
+  };
+  const std::vector<double> ground = irradiance(dir_ / "run" / "probes.csv"),
+                            alone = irradiance(dir_ / "alone" / "probes.csv");
+  ASSERT_EQ(ground.size(), 6u);
+  ASSERT_EQ(alone.size(), 6u);
+  for (std::size_t i = 0; i < ground.size(); ++i)
+    EXPECT_NEAR(ground[i], alone[i], 0.025 * alone[i]) << "probe " << i;
+  EXPECT_GT(nlohmann::json::parse(
+                hrad::test::read_text(dir_ / "run" / "stats.json"))["totals"]["elements"]
+                .get<int>(),
+            500);
+  r = hrad("solve builtin:office --out office --quiet");
+  EXPECT_FALSE(contains(r.err, "min_area")) << r.err;
+}
+
 // The reference tracer reported finite, "converged" values (E about 4000 at 0.3 %) for
 // a closed furnace of reflectance 1, whose answer is infinite: its paths never end but
 // at the bounce cap. Paths cut there now mark their probes unconverged, with a warning.

@@ -95,6 +95,7 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"row_sums", Kind::Object},
       {"steals", Kind::Integer},
       {"open", Kind::Object},
+      {"min_area_held", Kind::Object},
       {"refiners", Kind::Array},
       {"load_s", Kind::Number},
       {"bytes_per_node", Kind::Array},

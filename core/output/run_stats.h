@@ -86,6 +86,10 @@ struct IterationStats {
   double local_access_ratio = 0;
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;  ///< visibility queries answered without rays
+  /// Links the oracle wanted refined that min_area kept whole (core/solver/refiner.h),
+  /// and their share of the accepted links' estimated error.
+  std::uint64_t min_area_held = 0;
+  double min_area_held_error = 0;
   int gather_sweeps = 0;
   double max_change = 0;  ///< relative radiosity change of the last sweep
   /// The contraction the accelerated sweeps assumed (core/solver/propagation.h); 0 when

@@ -71,6 +71,15 @@ bool Refiner::splittable(const Element& e) const {
   return e.area > limits_.min_area && Hierarchy::can_subdivide(e);
 }
 
+bool Refiner::oracle_may_split(const Element& e) const {
+  return !e.is_cluster() && e.depth < kOracleLevels && Hierarchy::can_subdivide(e);
+}
+
+bool Refiner::held_by_min_area(const Element& e) const {
+  return !e.is_cluster() && !(e.area > limits_.min_area) && !oracle_may_split(e) &&
+         Hierarchy::can_subdivide(e);
+}
+
 // Which element to refine when both could be: the larger one. Surfaces compare
 // areas; when a cluster is involved, bounding-sphere radii. Sizes equal to
 // round-off (mirror-image elements, or the same scene at another scale) are a
@@ -219,7 +228,10 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
   if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
   const OracleThresholds th{limits_.eps_power, limits_.mean_irradiance};
   Verdict v = oracle_.judge(est, th);
-  if ((can_r || can_s) && limits_.independent_estimates &&
+  // What the oracle may refine: past min_area too, down to kOracleLevels below the input
+  // polygon (RefineLimits).
+  const bool ask_r = can_r || oracle_may_split(r), ask_s = can_s || oracle_may_split(s);
+  if ((ask_r || ask_s) && limits_.independent_estimates &&
       depends_on_visibility(oracle_, est, th)) {
     // Decide on the first rays (a reloaded link may hold the second), and if the
     // link is accepted, estimate its visibility from the second (RefineLimits).
@@ -231,10 +243,17 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
       est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 1);
   }
   st.error = v.error;
-  if (v.decision == Decision::Accept || (!can_r && !can_s)) {
+  if (v.decision == Decision::Accept || (!ask_r && !ask_s)) {
     st.accept = true;
-  } else {
+    w.c.accepted_error += v.error;
+    if (v.decision != Decision::Accept && (held_by_min_area(r) || held_by_min_area(s))) {
+      ++w.c.held_links;
+      w.c.held_error += v.error;
+    }
+  } else if (can_r || can_s) {
     st.split_r = split_receiver(r, s, can_r, can_s);
+  } else {  // only past min_area: where it keeps the scene's area from what is lit
+    st.split_r = split_receiver(r, s, ask_r, ask_s);
   }
   return st;
 }
@@ -305,6 +324,9 @@ RefineCounters Refiner::run(IScheduler& scheduler, std::span<Task> initial, int 
     total.links_created += c.links_created;
     total.links_kept += c.links_kept;
     total.culled += c.culled;
+    total.accepted_error += c.accepted_error;
+    total.held_error += c.held_error;
+    total.held_links += c.held_links;
     total.rays_cast += c.rays_cast;
     total.rays_skipped += c.rays_skipped;
     total.busy_s += c.busy_s;

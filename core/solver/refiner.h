@@ -27,9 +27,18 @@ namespace hrad {
 
 class Hierarchy;
 
+/// How many levels below its input polygon the oracle may always refine a surface
+/// (RefineLimits::min_area): 256 pieces of a quadrilateral.
+inline constexpr int kOracleLevels = 4;
+
 struct RefineLimits {
   double eps_power = 0;  ///< oracle threshold in power units
-  double min_area = 0;   ///< absolute: surfaces smaller than this are not split
+  /// Absolute: surfaces smaller than this are not split, but for the oracle's requests
+  /// on surfaces less than kOracleLevels below their input polygon. min_area is a share
+  /// of the whole scene's area; where most of it lies elsewhere (a room beside a
+  /// 200 x 200 ground plane: min_area 4 units^2, each wall 1), it kept a part of the
+  /// scene from being refined at all.
+  double min_area = 0;
   /// The stage stops (RefineCounters::over_memory) when the refiners' element and link
   /// arenas hold more than this many bytes; 0: no limit.
   std::uint64_t max_bytes = 0;
@@ -58,6 +67,11 @@ struct RefineCounters : StageWorkerCounters {
   std::uint64_t links_created = 0;  ///< accepted links that were not links before
   std::uint64_t links_kept = 0;     ///< links reloaded and accepted again
   std::uint64_t culled = 0;         ///< pairs that cannot exchange light
+  /// The oracle's error estimates summed over the links it judged and that were
+  /// accepted, and over those it wanted refined but that min_area kept (an end that
+  /// could be subdivided but is no larger than min_area, the other end unsplittable).
+  double accepted_error = 0, held_error = 0;
+  std::uint64_t held_links = 0;  ///< links min_area kept from being refined
   std::uint64_t rays_cast = 0;
   std::uint64_t rays_skipped = 0;             ///< rays not cast thanks to culling
   int peak_parallelism = 0;                   ///< most refiners busy at once
@@ -144,6 +158,12 @@ class Refiner {
   Step judge(const Task& task, Worker& w, LinkEstimate& est);
   void store_links(Worker& w, bool wait);
   [[nodiscard]] bool splittable(const Element& e) const;
+  /// A surface less than kOracleLevels below its input polygon: one the oracle may
+  /// have split whatever its area.
+  [[nodiscard]] bool oracle_may_split(const Element& e) const;
+  /// A surface that could be subdivided but that min_area keeps whole (no larger than
+  /// min_area, kOracleLevels or more below its polygon).
+  [[nodiscard]] bool held_by_min_area(const Element& e) const;
 
   Hierarchy& hierarchy_;
   const Transport& transport_;
