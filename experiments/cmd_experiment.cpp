@@ -27,12 +27,14 @@
 #include "experiments/harness/plot_runner.h"
 #include "experiments/harness/result_files.h"
 #include "experiments/harness/sweep.h"
+#include "experiments/harness/time_estimate.h"
 
 #include <fmt/format.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,7 +47,7 @@ using namespace hrad::experiment;
 struct ExperimentArgs {
   std::string config, out, resume, plots_dir, simulated;
   std::vector<std::string> sets;
-  bool quick = false, no_plot = false, quiet = false, dry_run = false;
+  bool quick = false, no_plot = false, quiet = false, dry_run = false, no_estimate = false;
   double worker_timeout = 60;
   std::string rank_cores = "share";
 };
@@ -144,8 +146,36 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     if (!lead) return 0;
     fmt::print("{}: {} points x {} repetitions = {} runs\n", config.name, points.size(),
                config.repetitions, points.size() * static_cast<std::size_t>(config.repetitions));
-    for (const SweepPoint& p : points)
-      fmt::print("  {:4}  {}  {}\n", p.index, p.scene, describe_point(p));
+    std::optional<TimeEstimate> est;
+    if (!a.no_estimate) {
+      fmt::print("  timing pilot solves on this machine (--no-estimate skips them):\n");
+      std::fflush(stdout);
+      try {
+        est = estimate_time(config, points, static_cast<int>(allowed_cpus().size()), stdout, false);
+      } catch (const Interrupted& e) {
+        print_error(fmt::format("{}: the estimate stopped; nothing was written", e.what()));
+        return e.exit_status();
+      } catch (const std::exception& e) {
+        print_error(fmt::format("estimating the time: {}", e.what()));
+        return 1;
+      }
+    }
+    for (const SweepPoint& p : points) {
+      const std::string what = describe_point(p);
+      if (est)
+        fmt::print("  {:4}  {}  {}{}{}\n", p.index, p.scene, what, what.empty() ? "" : "  ",
+                   rough_duration(est->point_seconds[static_cast<std::size_t>(p.index)]));
+      else
+        fmt::print("  {:4}  {}  {}\n", p.index, p.scene, what);
+    }
+    if (est)
+      fmt::print(
+          "estimated time: {} for the {} runs (the pilots took {:.1f} s; accuracy references "
+          "not counted; threads are taken to run at {:.0f} % of the ideal up to this "
+          "machine's {} CPU(s))\n",
+          rough_duration(est->total_seconds),
+          points.size() * static_cast<std::size_t>(config.repetitions), est->pilot_seconds,
+          100 * kParallelEfficiency, allowed_cpus().size());
     std::fflush(stdout);  // the list, then the warning
     if (!oversubscribed.empty()) fmt::print(stderr, "hrad: warning: {}\n", oversubscribed);
     return 0;
@@ -269,7 +299,13 @@ void register_experiment(CLI::App& app, CommandContext& ctx) {
                   "Simulated speedup CSV (from 'hrad simulate') for the speedup plot to draw "
                   "dashed")
       ->type_name("FILE");
-  sub->add_flag("--dry-run", args->dry_run, "List the points and exit; nothing is run or written");
+  sub->add_flag("--dry-run", args->dry_run,
+                "List the points with an estimate of each one's time and exit; nothing is "
+                "written. The estimate comes from two short one-thread pilot solves per group "
+                "of points that differ only in eps and in how they run in parallel "
+                "(docs/experiments.md)");
+  sub->add_flag("--no-estimate", args->no_estimate,
+                "With --dry-run: list the points only, without the pilot solves");
   sub->add_flag("--quiet", args->quiet, "No progress lines and no summary");
   sub->add_option("--worker-timeout", args->worker_timeout,
                   "Under mpirun: seconds without a heartbeat after which a worker rank is taken "

@@ -6,6 +6,7 @@
 #include "experiments/harness/csv.h"
 #include "experiments/harness/result_files.h"
 #include "experiments/harness/run_rows.h"
+#include "experiments/harness/time_estimate.h"
 #include "tests/experiment_test_util.h"
 #include "tests/read_text.h"
 
@@ -13,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -204,6 +206,29 @@ TEST(ExperimentRunner, ProgressLinesNamePointsAndTimeLeft) {
   EXPECT_NE(text.find("elapsed, ~0:00 left"), std::string::npos) << text;  // last run: none left
 }
 
+// The dry run's estimate (time_estimate.h): a point's one-thread time follows the
+// pilots' rate to its eps, threads divide it up to the machine's cores.
+TEST(TimeEstimate, FollowsThePilotsRateAndTheCores) {
+  // Pilots 1 s at eps 4e-4 and 0.25 s at 1.6e-3: t ~ 1/eps (beta = 1).
+  EXPECT_NEAR(scaled_estimate(1.0, 0.25, 4e-4, 1e-4, 1, 2), 4.0, 1e-9);
+  EXPECT_NEAR(scaled_estimate(1.0, 0.25, 4e-4, 4e-4, 1, 2), 1.0, 1e-9);
+  // Two threads on two cores: 2 x 0.9 faster; 16 threads on two cores: no faster.
+  EXPECT_NEAR(scaled_estimate(1.0, 0.25, 4e-4, 1e-4, 2, 2), 4.0 / 1.8, 1e-9);
+  EXPECT_NEAR(scaled_estimate(1.0, 0.25, 4e-4, 1e-4, 16, 2), 4.0 / 1.8, 1e-9);
+  // Fixed costs dominate (the pilots take as long): beta 0, no growth; a slower
+  // coarse pilot (noise) does not make finer runs faster.
+  EXPECT_NEAR(scaled_estimate(1.0, 1.0, 4e-4, 1e-4, 1, 2), 1.0, 1e-9);
+  EXPECT_NEAR(scaled_estimate(1.0, 1.2, 4e-4, 1e-4, 1, 2), 1.0, 1e-9);
+  // Steeper than 1.5 is taken as 1.5; pilots too short to time use 0.8.
+  EXPECT_NEAR(scaled_estimate(1.0, 0.01, 4e-4, 1e-4, 1, 2), std::pow(4.0, 1.5), 1e-9);
+  EXPECT_NEAR(scaled_estimate(0.004, 0.001, 4e-4, 1e-4, 1, 2), 0.004 * std::pow(4.0, 0.8), 1e-12);
+  EXPECT_EQ(rough_duration(0.3), "under a second");
+  EXPECT_EQ(rough_duration(4.2), "about 5 s");
+  EXPECT_EQ(rough_duration(42), "about 40 s");
+  EXPECT_EQ(rough_duration(150), "about 3 min");
+  EXPECT_EQ(rough_duration(7200), "about 2.0 h");
+}
+
 // The command line: bad input leaves nothing behind and says what is wrong.
 int run_hrad(const std::string& args, std::string& output) {
   const std::string cmd = std::string(HRAD_BINARY) + " " + args + " 2>&1";
@@ -241,6 +266,21 @@ TEST(ExperimentCli, QuickRunWithSetAndDryRun) {
       << out;
   EXPECT_NE(out.find("2 points x 1 repetitions = 2 runs"), std::string::npos) << out;
   EXPECT_EQ(out.find("more threads than"), std::string::npos) << out;
+  // The dry run estimates each point's time from two pilot solves of the group (the
+  // points differ only in threads): eps 0.2 and 0.8 (4 and 16 x 0.05).
+  EXPECT_NE(out.find("pilot builtin:cornell: eps 0.8 "), std::string::npos) << out;
+  EXPECT_NE(out.find(", eps 0.2 "), std::string::npos) << out;
+  EXPECT_NE(out.find("estimated time: "), std::string::npos) << out;
+  EXPECT_NE(out.find(" for the 2 runs (the pilots took "), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(d.path / "results"));
+  ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
+                         " --quick --dry-run "
+                         "--no-estimate",
+                     out),
+            0)
+      << out;
+  EXPECT_EQ(out.find("pilot"), std::string::npos) << out;
+  EXPECT_EQ(out.find("estimated time"), std::string::npos) << out;
   // A sweep past this machine's CPUs says so, in --dry-run too (it did not), and the
   // manifest records the load the runs started under.
   ASSERT_EQ(run_hrad("experiment " + (d.path / "c.json").string() +
