@@ -252,7 +252,7 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
     }
   } else if (can_r || can_s) {
     st.split_r = split_receiver(r, s, can_r, can_s);
-  } else {  // only past min_area: where it keeps the scene's area from what is lit
+  } else {  // past min_area: the oracle's own levels (RefineLimits::min_area)
     st.split_r = split_receiver(r, s, ask_r, ask_s);
   }
   return st;
