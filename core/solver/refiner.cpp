@@ -72,7 +72,7 @@ bool Refiner::splittable(const Element& e) const {
 }
 
 bool Refiner::oracle_may_split(const Element& e) const {
-  return !e.is_cluster() && e.depth < kOracleLevels && Hierarchy::can_subdivide(e);
+  return !e.is_cluster() && e.depth < limits_.oracle_levels && Hierarchy::can_subdivide(e);
 }
 
 bool Refiner::held_by_min_area(const Element& e) const {
@@ -228,7 +228,7 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
   if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
   const OracleThresholds th{limits_.eps_power, limits_.mean_irradiance};
   Verdict v = oracle_.judge(est, th);
-  // What the oracle may refine: past min_area too, down to kOracleLevels below the input
+  // What the oracle may refine: past min_area too, down to oracle_levels below the input
   // polygon (RefineLimits).
   const bool ask_r = can_r || oracle_may_split(r), ask_s = can_s || oracle_may_split(s);
   if ((ask_r || ask_s) && limits_.independent_estimates &&

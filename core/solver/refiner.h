@@ -27,17 +27,15 @@ namespace hrad {
 
 class Hierarchy;
 
-/// How many levels below its input polygon the oracle may always refine a surface
-/// (RefineLimits::min_area): 256 pieces of a quadrilateral.
+/// How many levels below its input polygon the oracle may refine a surface whatever
+/// min_area says, once the solver has seen min_area stop it (RefineLimits::oracle_levels):
+/// 256 pieces of a quadrilateral.
 inline constexpr int kOracleLevels = 4;
 
 struct RefineLimits {
   double eps_power = 0;  ///< oracle threshold in power units
   /// Absolute: surfaces smaller than this are not split, but for the oracle's requests
-  /// on surfaces less than kOracleLevels below their input polygon. min_area is a share
-  /// of the whole scene's area; where most of it lies elsewhere (a room beside a
-  /// 200 x 200 ground plane: min_area 4 units^2, each wall 1), it kept a part of the
-  /// scene from being refined at all.
+  /// on surfaces less than oracle_levels below their input polygon.
   double min_area = 0;
   /// The stage stops (RefineCounters::over_memory) when the refiners' element and link
   /// arenas hold more than this many bytes; 0: no limit.
@@ -52,6 +50,12 @@ struct RefineLimits {
   /// to find the pair more open, and their estimates are biased high; the link set is
   /// the same either way, since the decision always reads the first rays.
   bool independent_estimates = false;
+  /// min_area is a share of the whole scene's area; where most of it lies elsewhere (a
+  /// room beside a 200 x 200 ground plane: min_area 4 units^2, each wall 1), it kept a
+  /// part of the scene from being refined at all. The solver sets kOracleLevels here
+  /// after an iteration in which min_area stopped a noticeable share of what the oracle
+  /// asked for (RefineCounters::held_error); 0 until then: min_area holds everywhere.
+  int oracle_levels = 0;
 };
 
 /// A stage's initial tasks: reload_links fills every field of every task in parallel,
@@ -117,6 +121,7 @@ class Refiner {
   /// The oracle's threshold (RefineLimits::eps_power) for the next stages; between
   /// stages only.
   void set_eps_power(double eps_power) { limits_.eps_power = eps_power; }
+  void set_oracle_levels(int levels) { limits_.oracle_levels = levels; }
 
   /// While a stage runs, calls `fn` about every `interval_ms` from a thread of its
   /// own (never two calls at once, never after run() returns): refiners publish their
@@ -158,11 +163,11 @@ class Refiner {
   Step judge(const Task& task, Worker& w, LinkEstimate& est);
   void store_links(Worker& w, bool wait);
   [[nodiscard]] bool splittable(const Element& e) const;
-  /// A surface less than kOracleLevels below its input polygon: one the oracle may
-  /// have split whatever its area.
+  /// A surface less than RefineLimits::oracle_levels below its input polygon: one the
+  /// oracle may split whatever its area.
   [[nodiscard]] bool oracle_may_split(const Element& e) const;
   /// A surface that could be subdivided but that min_area keeps whole (no larger than
-  /// min_area, kOracleLevels or more below its polygon).
+  /// min_area, oracle_levels or more below its polygon).
   [[nodiscard]] bool held_by_min_area(const Element& e) const;
 
   Hierarchy& hierarchy_;
