@@ -4,19 +4,20 @@
 // get. So the estimate solves short pilots on this machine: for each group of points
 // that differ only in eps and in how they run in parallel (threads, scheduler, block
 // size, pinning, placement, pool order, seed, trace), two one-thread solves of the
-// group's scene at 4 and 16 times the group's smallest eps (at most 1). Their times give
+// group's scene at 16 and 4 times the group's smallest eps (at most 1). Their times give
 // the scene's own rate t ~ eps^-beta (beta = log(t4 / t16) / log 4, within [0, 1.5]; 0.8
 // when the pilots are too short to time), which carries t4 to each point's eps. (Fixed
-// costs, the scene's setup and the propagation, make beta small where they dominate;
-// on the office it is near 0.2 between 4e-4 and 1.6e-3, and the links grow by a third
-// from there to 1e-4.) A point on N
+// costs, the scene's setup, open fractions and propagation, make beta small where they
+// dominate: 0.06, 0.07 and 0.01 for the office, lab and cabin between 4e-4 and 1.6e-3.) A point on N
 // threads is taken to run min(N, cores) x kParallelEfficiency times faster (N > 1),
 // and no faster beyond the machine's cores. Accuracy references, which a result folder
 // caches, are not counted.
 //
-// How far to trust it: for the shipped configurations at their defaults on a 2-core
-// machine, within about a factor of 1.5 of the measured times (docs/experiments.md);
-// the parallel part is the ideal's, which a many-core machine may not reach.
+// How far to trust it: on a 2-core machine, fig5-speedup.json was estimated at about
+// 3 min and took 2.8 min, fig7-block-size.json 15 s and took 19 s; the parallel part is
+// the ideal's, which a many-core machine may not reach. The pilots cost up to one
+// one-thread run per group where eps hardly changes the time (fig5: 65 s; --no-estimate
+// skips them).
 #pragma once
 
 #include "experiments/harness/experiment_config.h"
