@@ -145,6 +145,18 @@ TEST_F(HostileInput, EmissionBelowWhatResultsCanHoldIsRejected) {
   EXPECT_NEAR(first_e("small") * 1e18, first_e("one"), 1e-6 * first_e("one"));
 }
 
+// The first irradiance column (E_r) of each row of a probes.csv.
+std::vector<double> probe_irradiance(const fs::path& csv_file) {
+  const std::string csv = hrad::test::read_text(csv_file);
+  std::vector<double> e;
+  for (std::size_t row = csv.find('\n') + 1; row < csv.size(); row = csv.find('\n', row) + 1) {
+    std::size_t col = row;
+    for (int k = 0; k < 6; ++k) col = csv.find(',', col) + 1;
+    e.push_back(std::stod(csv.substr(col)));
+  }
+  return e;
+}
+
 // A 0.1-unit triangle 30,000 units from a closed unit room halved the room's indirect
 // light without a word (solve: probes 0.64 of the room's alone; the path tracer 0.72):
 // the ray tolerances, relative to the bounding box, made the room's opposite walls
@@ -167,19 +179,9 @@ TEST_F(HostileInput, FarOffGeometryIsReported) {
   EXPECT_TRUE(contains(hrad::test::read_text(dir_ / "run" / "stats.json"), "remove the far-off"));
   ASSERT_EQ(hrad("solve room.obj --probes p.txt --out alone --quiet").status, 0);
   ASSERT_EQ(hrad("reference box.obj --probes p.txt --rel-error 0.01 --out ref --quiet").status, 0);
-  const auto irradiance = [&](const fs::path& csv_file) {
-    const std::string csv = hrad::test::read_text(csv_file);
-    std::vector<double> e;
-    for (std::size_t row = csv.find('\n') + 1; row < csv.size(); row = csv.find('\n', row) + 1) {
-      std::size_t col = row;
-      for (int k = 0; k < 6; ++k) col = csv.find(',', col) + 1;
-      e.push_back(std::stod(csv.substr(col)));
-    }
-    return e;
-  };
-  const std::vector<double> far = irradiance(dir_ / "run" / "probes.csv"),
-                            alone = irradiance(dir_ / "alone" / "probes.csv"),
-                            traced = irradiance(dir_ / "ref" / "probes.csv");
+  const std::vector<double> far = probe_irradiance(dir_ / "run" / "probes.csv"),
+                            alone = probe_irradiance(dir_ / "alone" / "probes.csv"),
+                            traced = probe_irradiance(dir_ / "ref" / "probes.csv");
   ASSERT_EQ(far.size(), 4u);
   ASSERT_EQ(alone.size(), 4u);
   ASSERT_EQ(traced.size(), 4u);
@@ -223,18 +225,8 @@ TEST_F(HostileInput, ALargeGroundDoesNotStarveARoom) {
   r = hrad("solve room.obj --probes p.txt --out alone --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_FALSE(contains(r.err, "min_area")) << r.err;
-  const auto irradiance = [&](const fs::path& csv_file) {
-    const std::string csv = hrad::test::read_text(csv_file);
-    std::vector<double> e;
-    for (std::size_t row = csv.find('\n') + 1; row < csv.size(); row = csv.find('\n', row) + 1) {
-      std::size_t col = row;
-      for (int k = 0; k < 6; ++k) col = csv.find(',', col) + 1;
-      e.push_back(std::stod(csv.substr(col)));
-    }
-    return e;
-  };
-  const std::vector<double> ground = irradiance(dir_ / "run" / "probes.csv"),
-                            alone = irradiance(dir_ / "alone" / "probes.csv");
+  const std::vector<double> ground = probe_irradiance(dir_ / "run" / "probes.csv"),
+                            alone = probe_irradiance(dir_ / "alone" / "probes.csv");
   ASSERT_EQ(ground.size(), 6u);
   ASSERT_EQ(alone.size(), 6u);
   for (std::size_t i = 0; i < ground.size(); ++i)
