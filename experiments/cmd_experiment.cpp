@@ -301,7 +301,7 @@ void register_experiment(CLI::App& app, CommandContext& ctx) {
       ->type_name("FILE");
   sub->add_flag("--dry-run", args->dry_run,
                 "List the points with an estimate of each one's time and exit; nothing is "
-                "written. The estimate comes from two short one-thread pilot solves per group "
+                "written. The estimate comes from two one-thread pilot solves per group "
                 "of points that differ only in eps and in how they run in parallel "
                 "(docs/experiments.md)");
   sub->add_flag("--no-estimate", args->no_estimate,
