@@ -50,11 +50,11 @@ class RayScene {
   /// Segment end points (and ray origins) are excluded by this distance, relative to
   /// the scene's tolerance scale (scale(): its bounding-box diagonal, or near its bulk
   /// when a little geometry lies far from the rest, see the constructor): hits closer
-  /// than kEndpointEpsilon * scale() to either end are ignored. Single precision places a point to about 1e-7 of the
-  /// diagonal; with 1e-5, a segment ending on a surface is not reported as occluded by
-  /// that surface down to grazing angles of about 0.1 degree (tested; 1e-6 fails below
-  /// about 1 degree). The price: an occluder within 1e-5 of the diagonal of an end
-  /// point is missed (0.1 mm in a 10 m room).
+  /// than kEndpointEpsilon * scale() to either end are ignored. Single precision places
+  /// a point to about 1e-7 of the diagonal; with 1e-5, a segment ending on a surface is
+  /// not reported as occluded by that surface down to grazing angles of about 0.1
+  /// degree (tested; 1e-6 fails below about 1 degree). The price: an occluder within
+  /// 1e-5 of the diagonal of an end point is missed (0.1 mm in a 10 m room).
   static constexpr double kEndpointEpsilon = 1e-5;
   /// intersect() from farther than this many diagonals from the scene's centre starts
   /// the ray again just outside the scene (a camera far away): Embree's single
