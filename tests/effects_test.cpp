@@ -187,8 +187,12 @@ TEST(EffectsShortcut, ConvexEnclosureCastsNoRays) {
   // full run also looks for closed-in parts (core/transport/open_fraction.h), which a convex
   // enclosure cannot have: the fast run casts no such ray.
   std::uint64_t open_rays = 0;
-  for (const IterationStats& it : full.stats.iterations) open_rays += it.open_rays;
-  for (const IterationStats& it : fast.stats.iterations) EXPECT_EQ(it.open_rays, 0u);
+  for (const IterationStats& it : full.stats.iterations)
+    open_rays += it.open_rays + it.exposure_rays;
+  for (const IterationStats& it : fast.stats.iterations) {
+    EXPECT_EQ(it.open_rays, 0u);
+    EXPECT_EQ(it.exposure_rays, 0u);
+  }
   EXPECT_GT(open_rays, 0u);
   EXPECT_EQ(fast.stats.totals.rays_skipped - full.stats.totals.rays_skipped,
             full.stats.totals.rays_cast - fast.stats.totals.rays_cast - open_rays);

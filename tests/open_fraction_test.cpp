@@ -3,7 +3,10 @@
 #include "core/hierarchy/hierarchy.h"
 #include "core/parallel/lock_pool.h"
 #include "core/raycast/ray_scene.h"
+#include "core/reference/path_tracer.h"
 #include "core/scene/builtin_scenes.h"
+#include "core/scene/probes.h"
+#include "core/solver/solver.h"
 
 #include <gtest/gtest.h>
 
@@ -141,6 +144,40 @@ TEST(OpenFraction, TheShortcutForUncrossedPiecesAgreesWithTheFullEstimate) {
   EXPECT_GT(closed, 10);  // pieces under boxes and of the boxes' bottoms
   EXPECT_GT(partly, 10);  // pieces that a box's side runs through
   EXPECT_LT(3 * quick_rays, full_rays);
+}
+
+// A probe point closed in by a contact (on the floor under the cluttered furnace's
+// corner box, [0.8, 1]^2, lifted 1e-6 off it as `hrad reference --random-probes` lifts
+// its points) sees only the box's black inside: its irradiance is 0, in the solver as in
+// the path tracer. Before the rule the final gather read the radiosity of the box's
+// bottom, closed in too but emitting like every face of the furnace (B = E = 1). A
+// probe beside the box reads the furnace's own value, E rho / (1 - rho) + E... here
+// only checked to be lit.
+TEST(OpenFraction, AProbeClosedInByAContactReadsZero) {
+  const Scene scene = make_builtin("builtin:furnace?objects=2");
+  const std::vector<Probe> probes = {{Vec3(0.9, 1e-6, 0.9), Vec3::UnitY()},    // under the box
+                                     {Vec3(0.06, 1e-6, 0.3), Vec3::UnitY()}};  // clear floor
+  const RayScene rays = RayScene::from_scene(scene);
+  const Hierarchy h(scene, 1);
+  std::uint64_t cast = 0;
+  EXPECT_TRUE(point_closed_in(probes[0].p, probes[0].n, h, rays, 7, &cast));
+  EXPECT_FALSE(point_closed_in(probes[1].p, probes[1].n, h, rays, 7, &cast));
+  EXPECT_GT(cast, 0u);
+  EXPECT_LE(cast, 2u * 2u * kProbeOpenRays);  // a ray, and one more per front hit
+  SolverOptions o;
+  o.eps = 1e-3;
+  o.threads = 1;
+  Solver solver(scene, o);
+  solver.run();
+  const std::vector<Rgb> e = solver.probe_irradiance(probes);
+  EXPECT_EQ(e[0][0], 0.0);
+  EXPECT_GT(e[1][0], 1.0);
+  const PathTracer pt(scene);
+  PathTracerOptions po;
+  po.max_samples = 1u << 12;
+  const ReferenceResult r = pt.estimate(probes, po);
+  EXPECT_EQ(r.probes[0].irradiance[0], 0.0);
+  EXPECT_GT(r.probes[1].irradiance[0], 1.0);
 }
 
 }  // namespace

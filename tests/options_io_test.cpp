@@ -36,6 +36,7 @@ SolverOptions non_default_options() {
   o.max_gather_sweeps = 12;
   o.cluster_model = ClusterModel::Isotropic;
   o.cluster_receiver = ClusterReceiver::Isotropic;
+  o.cluster_members = ClusterMembers::Exposed;
   o.row_sums = RowSumMode::Normalize;
   o.row_sum_rays = 5;
   o.locks_pool = 64;
@@ -83,6 +84,7 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.max_gather_sweeps, b.max_gather_sweeps);
   EXPECT_EQ(a.cluster_model, b.cluster_model);
   EXPECT_EQ(a.cluster_receiver, b.cluster_receiver);
+  EXPECT_EQ(a.cluster_members, b.cluster_members);
   EXPECT_EQ(a.row_sums, b.row_sums);
   EXPECT_EQ(a.row_sum_rays, b.row_sum_rays);
   EXPECT_EQ(a.locks_pool, b.locks_pool);
@@ -120,7 +122,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
       selected += chosen;
     }
   }
-  EXPECT_EQ(fields, 33u);  // one per field of SolverOptions but plugin_params
+  EXPECT_EQ(fields, 34u);  // one per field of SolverOptions but plugin_params
   std::size_t declared = 0;
   for (const std::string& n : scheduler_names()) declared += scheduler_params(n).size();
   for (const std::string& n : oracle_names()) declared += oracle_params(n).size();

@@ -95,6 +95,7 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"row_sums", Kind::Object},
       {"steals", Kind::Integer},
       {"open", Kind::Object},
+      {"exposure", Kind::Object},
       {"min_area_held", Kind::Object},
       {"refiners", Kind::Array},
       {"load_s", Kind::Number},

@@ -41,6 +41,22 @@ constexpr std::span<const EnumName<ClusterReceiver>> enum_names(ClusterReceiver)
   return kClusterReceiverNames;
 }
 
+/// cluster_members: how a cluster's members share the light it receives along each axis
+/// direction and which of their radiosities it shows (core/transport/cluster_exposure.h;
+/// with cluster_receiver = cosine).
+///   Exposed  by open area times each member's exposure within the cluster, from rays
+///            (a member that the cluster's other members hide catches and shows little)
+///   Alike    by open area alone
+enum class ClusterMembers : std::uint8_t { Exposed, Alike };
+inline constexpr EnumName<ClusterMembers> kClusterMembersNames[] = {
+    {ClusterMembers::Exposed, "exposed",
+     "by open area times each member's exposure within the cluster (rays)"},
+    {ClusterMembers::Alike, "alike", "by open area alone, hidden members like exposed ones"},
+};
+constexpr std::span<const EnumName<ClusterMembers>> enum_names(ClusterMembers) {
+  return kClusterMembersNames;
+}
+
 /// row_sums: the leaf row-sum rescale, for studies (core/solver/row_sums.h).
 enum class RowSumMode : std::uint8_t { Keep, Clamp, Normalize };
 inline constexpr EnumName<RowSumMode> kRowSumModeNames[] = {

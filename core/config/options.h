@@ -23,6 +23,7 @@
 // | max_gather_sweeps   | int             | 100000       | sweeps per iteration, at most           |
 // | cluster_model       | ClusterModel    | directional  | core/transport/cluster_model.h          |
 // | cluster_receiver    | ClusterReceiver | cosine       | core/config/modes.h                     |
+// | cluster_members     | ClusterMembers  | alike        | core/transport/cluster_exposure.h       |
 // | row_sums            | RowSumMode      | keep         | core/config/modes.h, core/solver/row_sums.h |
 // | row_sum_rays        | int             | 64           | escape rays per leaf (normalize)        |
 // | locks_pool          | int             | 0            | hashed locks per class (0: 2 x threads) |
@@ -85,6 +86,7 @@ struct SolverOptions {
   int max_gather_sweeps = 100000;
   ClusterModel cluster_model = ClusterModel::Directional;
   ClusterReceiver cluster_receiver = ClusterReceiver::Cosine;
+  ClusterMembers cluster_members = ClusterMembers::Alike;
   RowSumMode row_sums = RowSumMode::Keep;
   int row_sum_rays = 64;
   int locks_pool = 0;

@@ -20,11 +20,11 @@ namespace {
 using S = SolverOptions;
 // One alternative per field type; a mode (an enum with a table of names,
 // core/base/enum_names.h) is written and read as its name.
-using Member =
-    std::variant<int S::*, std::uint64_t S::*, double S::*, std::string S::*, PinPolicy S::*,
-                 MemBind S::*, PoolOrder S::*, ClusterModel S::*, ClusterReceiver S::*,
-                 RowSumMode S::*, EffectsMode S::*, ShaftCulling S::*, DecisionRays S::*,
-                 PushVisibility S::*, Sides S::*, EmitterSides S::*, Shading S::*>;
+using Member = std::variant<int S::*, std::uint64_t S::*, double S::*, std::string S::*,
+                            PinPolicy S::*, MemBind S::*, PoolOrder S::*, ClusterModel S::*,
+                            ClusterReceiver S::*, ClusterMembers S::*, RowSumMode S::*,
+                            EffectsMode S::*, ShaftCulling S::*, DecisionRays S::*,
+                            PushVisibility S::*, Sides S::*, EmitterSides S::*, Shading S::*>;
 
 template <class T>
 constexpr bool kIsMode = std::is_enum_v<T>;
@@ -74,6 +74,9 @@ const std::vector<Row>& rows() {
       {"cluster_model", &S::cluster_model, "cluster projected areas"},
       {"cluster_receiver", &S::cluster_receiver,
        "how a cluster hands what it gathers to its members"},
+      {"cluster_members", &S::cluster_members,
+       "whether a cluster's members share and show its light by their exposure within it "
+       "(cluster_receiver = cosine)"},
       {"row_sums", &S::row_sums, "leaf row-sum rescale, for studies"},
       {"row_sum_rays", &S::row_sum_rays, "escape rays per leaf when row_sums = normalize"},
       {"locks_pool", &S::locks_pool, "hashed locks per lock class (0: twice the refiner count)"},

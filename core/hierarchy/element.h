@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 namespace hrad {
 
@@ -119,6 +120,14 @@ struct ClusterLight {
   std::array<Rgb, 6> leaving{};
   std::array<Rgb, 6> leaving_next{};
   std::array<double, 6> open_area{};
+  /// Each child's exposure within this cluster per axis direction
+  /// (core/transport/cluster_exposure.h), by its place among the children; empty: 1.
+  std::vector<std::array<float, 6>> exposure;
+  /// The members' open area weighted by their exposure (the product along the chain of
+  /// children), per axis direction: `leaving` is summed with the same weights, and
+  /// `leaving / exposed_area` is the radiosity the cluster shows. open_area without
+  /// exposures.
+  std::array<double, 6> exposed_area{};
   bool leaving_made = false;  ///< `leaving` holds the sums of a finished sweep
   /// The members' open area projected along d: sum_i |d_i| open_area (times |d|).
   [[nodiscard]] double projected_open_area(const Vec3& d) const {
@@ -135,7 +144,9 @@ struct ClusterLight {
     Rgb p = Rgb::Zero();
     for (int i = 0; i < 3; ++i)
       p += std::abs(d[i]) * leaving[static_cast<std::size_t>(2 * i + (d[i] < 0))];
-    const double a = projected_open_area(d);
+    double a = 0;
+    for (int i = 0; i < 3; ++i)
+      a += std::abs(d[i]) * exposed_area[static_cast<std::size_t>(2 * i + (d[i] < 0))];
     return a > 0 ? Rgb(p / a) : mean;
   }
 };

@@ -103,6 +103,11 @@ struct IterationStats {
   /// rays_cast) and the open share of the leaves' area (1 - closed in by contacts).
   std::uint64_t open_rays = 0;
   double open_area_fraction = 1;
+  /// Cluster members' exposures (core/transport/cluster_exposure.h): rays cast for them
+  /// (first iteration only; also in rays_cast) and their area-weighted mean (1 when not
+  /// computed).
+  std::uint64_t exposure_rays = 0;
+  double mean_exposure = 1;
 };
 
 /// The figures of a run that come from its iterations: sums, the last iteration's

@@ -82,6 +82,8 @@ const std::vector<IterationField>& iteration_fields() {
       {"row_sums/within_3pct", "row_sums_within_3pct", "", HRAD_REAL(it.row_sum_within_band)},
       {"row_sums/corrected", "row_sums_corrected", "count", HRAD_COUNT(it.row_sum_corrected)},
       {"open/rays", "open_rays", "count", HRAD_COUNT(it.open_rays)},
+      {"exposure/rays", "exposure_rays", "count", HRAD_COUNT(it.exposure_rays)},
+      {"exposure/mean", "exposure_mean", "", HRAD_REAL(it.mean_exposure)},
       {"min_area_held/links", "min_area_held_links", "count", HRAD_COUNT(it.min_area_held)},
       {"min_area_held/error_share", "min_area_held_error_share", "",
        HRAD_REAL(it.min_area_held_error)},

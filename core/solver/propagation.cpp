@@ -176,10 +176,11 @@ class PassState {
     std::uint32_t parent;     // position, kNone at the root
     std::uint32_t first_kid;  // kids_[first_kid .. next node's first_kid): children
     std::uint8_t flags;
-    float push_weight;   // Element::push_weight
-    float gather_scale;  // Element::gather_scale
-    double gain;         // open_gain
-    double weight;       // area x open weight: its share of its parent's pull
+    std::uint32_t xslot;  // under a cluster with exposures: its place in xin_ / xout_, else kNone
+    float push_weight;    // Element::push_weight
+    float gather_scale;   // Element::gather_scale
+    double gain;          // open_gain
+    double weight;        // area x open weight: its share of its parent's pull
     double area;
   };
 
@@ -207,6 +208,7 @@ class PassState {
                                           (e.child_span().empty() ? kLeaf : 0) |
                                           (e.parent && !parent_cluster && !cluster ? kChain : 0) |
                                           (parent_cluster ? kUnderCluster : 0));
+      d.xslot = kNone;
     }
     std::uint32_t kids = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -216,6 +218,23 @@ class PassState {
     }
     node_[n].first_kid = kids;
     kids_.resize(kids);
+    // The members' exposures within their clusters (cluster_exposure.h), in pass order.
+    for (std::size_t i = 0; i < n; ++i) {
+      const Element& e = *l.order[i];
+      if (!e.parent || !e.parent->light || e.parent->light->exposure.empty()) continue;
+      node_[i].xslot = static_cast<std::uint32_t>(xout_.size());
+      const std::array<float, 6>& x =
+          e.parent->light->exposure[static_cast<std::size_t>(&e - e.parent->child_span().data())];
+      // What the pull weighs the member's light by along each axis direction: its
+      // exposure, times its axis share for a polygon (add_by_axis).
+      std::array<float, 6> out{};
+      const std::array<double, 6> w =
+          e.is_cluster() ? std::array<double, 6>{1, 1, 1, 1, 1, 1} : axis_shares(e.normal);
+      for (std::size_t k = 0; k < 6; ++k)
+        out[k] = static_cast<float>(w[k] * static_cast<double>(x[k]));
+      xout_.push_back(out);
+    }
+    xin_.resize(xout_.size());
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i) {
       const auto u = static_cast<std::size_t>(i);
@@ -281,7 +300,15 @@ class PassState {
     next_[i] = gathered_[i] + next_[p];
     if (!cosine || (d.flags & kUnderCluster) == 0) return;
     const std::array<Rgb, 6>& up = light_[p]->arriving;
-    if ((d.flags & kCluster) != 0) {
+    if (d.xslot != kNone) {  // by exposure (prepare_exposures)
+      const std::array<float, 6>& in = xin_[d.xslot];
+      if ((d.flags & kCluster) != 0) {
+        for (std::size_t k = 0; k < 6; ++k)
+          light_[i]->arriving[k] += static_cast<double>(in[k]) * up[k];
+      } else {
+        for (std::size_t k = 0; k < 6; ++k) next_[i] += static_cast<double>(in[k]) * up[k];
+      }
+    } else if ((d.flags & kCluster) != 0) {
       for (std::size_t k = 0; k < 6; ++k) light_[i]->arriving[k] += up[k];
     } else {
       // The member's share of each axis direction, as add_by_axis splits its area.
@@ -313,7 +340,17 @@ class PassState {
       std::array<Rgb, 6>& leaving = light_[i]->leaving_next;
       leaving.fill(Rgb::Zero());
       for (const std::uint32_t* k = kid; k != end; ++k) {
-        if (cluster(*k)) {
+        const std::uint32_t slot = node_[*k].xslot;
+        if (slot != kNone) {  // weighed by exposure
+          const std::array<float, 6>& out = xout_[slot];
+          if (cluster(*k)) {
+            const std::array<Rgb, 6>& from = light_[*k]->leaving_next;
+            for (std::size_t j = 0; j < 6; ++j) leaving[j] += static_cast<double>(out[j]) * from[j];
+          } else {
+            const Rgb b = node_[*k].weight * next_[*k];
+            for (std::size_t j = 0; j < 6; ++j) leaving[j] += static_cast<double>(out[j]) * b;
+          }
+        } else if (cluster(*k)) {
           for (std::size_t j = 0; j < 6; ++j) leaving[j] += light_[*k]->leaving_next[j];
         } else {
           add_by_axis(leaving, normal_[*k], Rgb(node_[*k].weight * next_[*k]));
@@ -367,13 +404,24 @@ class PassState {
     const auto prepare = [&](std::size_t i) {
       if (!cluster(i)) return;
       std::array<double, 6>& oa = light_[i]->open_area;
+      std::array<double, 6>& ea = light_[i]->exposed_area;
       oa.fill(0);
+      ea.fill(0);
       for (std::uint32_t j = node_[i].first_kid; j < node_[i + 1].first_kid; ++j) {
         const std::uint32_t k = kids_[j];
+        const std::uint32_t slot = node_[k].xslot;
         if (cluster(k)) {
-          for (std::size_t a = 0; a < 6; ++a) oa[a] += light_[k]->open_area[a];
+          for (std::size_t a = 0; a < 6; ++a) {
+            oa[a] += light_[k]->open_area[a];
+            ea[a] += (slot != kNone ? static_cast<double>(xout_[slot][a]) : 1.0) *
+                     light_[k]->exposed_area[a];
+          }
         } else {
-          add_by_axis(oa, normal_[k], node_[k].weight);
+          const std::array<double, 6> w = axis_shares(normal_[k]);
+          for (std::size_t a = 0; a < 6; ++a) {
+            oa[a] += w[a] * node_[k].weight;
+            ea[a] += (slot != kNone ? static_cast<double>(xout_[slot][a]) : w[a]) * node_[k].weight;
+          }
         }
       }
     };
@@ -384,6 +432,35 @@ class PassState {
            i-- > l.part_begin[static_cast<std::size_t>(t)];)
         prepare(i);
     for (std::size_t i = l.top; i-- > 0;) prepare(i);
+    prepare_exposures(threads);
+  }
+
+  // What the push weighs the light arriving at a member's cluster by along each axis
+  // direction: per unit of the cluster's exposed area (its open area over its exposed
+  // area), times the member's exposure, times its axis share for a polygon or over its
+  // own gain for a cluster (whose own push divides by it again). The total over the
+  // members is what arrived.
+  void prepare_exposures(int threads) {
+    const auto n = static_cast<std::ptrdiff_t>(size());
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const Node& d = node_[static_cast<std::size_t>(i)];
+      if (d.xslot == kNone) continue;
+      const ClusterLight& parent = *light_[d.parent];
+      std::array<float, 6>& in = xin_[d.xslot];
+      for (std::size_t k = 0; k < 6; ++k) {
+        double g = static_cast<double>(xout_[d.xslot][k]) * exposure_gain(parent, k);
+        if (cluster(static_cast<std::size_t>(i)))
+          g /= exposure_gain(*light_[static_cast<std::size_t>(i)], k);
+        in[k] = static_cast<float>(g);
+      }
+    }
+  }
+
+  // A cluster's open area over its exposed area along axis direction k: what a unit of
+  // irradiance per open area is per exposed area (1 where nothing is exposed).
+  static double exposure_gain(const ClusterLight& l, std::size_t k) {
+    return l.exposed_area[k] > 0 ? l.open_area[k] / l.exposed_area[k] : 1.0;
   }
 
   const Layout& layout_;
@@ -392,6 +469,10 @@ class PassState {
   std::vector<Rgb> emission_, rho_, B_, next_, gathered_;
   std::vector<Vec3> normal_;
   std::vector<ClusterLight*> light_;
+  // Per member under a cluster with exposures (Node::xslot; cluster_exposure.h): the
+  // push's and the pull's weights along each axis direction (prepare_exposures, the
+  // constructor).
+  std::vector<std::array<float, 6>> xin_, xout_;
 };
 
 // A pass over the hierarchy (see Partition), in three pieces: one thread gathers and
@@ -585,8 +666,8 @@ class GatherMatrix {
     if (!s.cluster(i)) return;
     const ClusterLight& cl = *s.light(i);
     for (std::size_t k = 0; k < 6; ++k)
-      values[axis_[i] + k] = cl.leaving_made && cl.open_area[k] > 0
-                                 ? channels<V>(cl.leaving[k] / cl.open_area[k])
+      values[axis_[i] + k] = cl.leaving_made && cl.exposed_area[k] > 0
+                                 ? channels<V>(cl.leaving[k] / cl.exposed_area[k])
                                  : channels<V>(s.B(i));
   }
 
@@ -668,7 +749,7 @@ class GatherMatrix {
       return;
     }
     const Vec3 d = e.center - s.center;
-    const std::array<double, 6>& oa = s.light->open_area;
+    const std::array<double, 6>& oa = s.light->exposed_area;
     std::array<double, 3> part{};
     double sum = 0;
     for (int a = 0; a < 3; ++a) {

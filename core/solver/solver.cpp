@@ -15,6 +15,7 @@
 #include "core/solver/push_weights.h"
 #include "core/solver/refiner.h"
 #include "core/solver/row_sums.h"
+#include "core/transport/cluster_exposure.h"
 #include "core/transport/form_factor.h"
 #include "core/transport/open_fraction.h"
 #include "core/transport/transport.h"
@@ -478,6 +479,14 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
     progress(phase, scale.propagate(it, 0.8 * ProgressScale::prepare_share(it) * share));
   };
   if (progress) on_open(0);
+  // The members' exposures within their clusters depend on the geometry alone: once.
+  if (it == 1 && o.cluster_members == ClusterMembers::Exposed &&
+      receiver_mode == ClusterReceiver::Cosine && effects.visibility.on) {
+    const ExposureStats x = compute_cluster_exposure(hierarchy, rays, o.seed, o.threads);
+    is.rays_cast += x.rays_cast;
+    is.exposure_rays = x.rays_cast;
+    is.mean_exposure = x.mean_exposure;
+  }
   std::vector<Element*> elements = hierarchy.elements();
   const OpenStats open =
       update_open_fractions(elements, hierarchy, rays, o.seed, o.threads, effects.visibility.on,
@@ -646,7 +655,7 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
   // Final gather: irradiance = sum over leaf surfaces of B_s x F(point -> s) x V,
   // with the exact point-to-polygon form factor and the kernel-weighted visibility of
   // Transport::visibility_from_point, from rays whose random numbers hash the probe
-  // index and the element id.
+  // index and the element id; 0 at a point closed in by a contact.
   const Impl& m = *impl_;
   const std::vector<const Element*> leaves = leaf_surfaces(m.hierarchy.root());
   const int k = std::max(m.options.visibility_rays, 8);
@@ -661,6 +670,12 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
     if (progress && omp_get_thread_num() == 0)
       progress(fmt::format("probes: {} of {}", finished, n), static_cast<double>(finished) / n);
     const Probe& pr = probes[static_cast<std::size_t>(i)];
+    // A point closed in by a contact sees only the black inside of a solid
+    // (core/transport/open_fraction.h): 0, by the rule the leaves follow.
+    if (m.effects.visibility.on &&
+        point_closed_in(pr.p, pr.n, m.hierarchy, m.rays,
+                        child_id(static_cast<std::uint64_t>(i), 0xC105EDu) ^ m.options.seed))
+      continue;
     Rgb sum = Rgb::Zero();
     for (const Element* s : leaves) {
       if ((s->B <= 0).all()) continue;
