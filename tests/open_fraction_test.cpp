@@ -150,9 +150,9 @@ TEST(OpenFraction, TheShortcutForUncrossedPiecesAgreesWithTheFullEstimate) {
 // corner box, [0.8, 1]^2, lifted 1e-6 off it as `hrad reference --random-probes` lifts
 // its points) sees only the box's black inside: its irradiance is 0, in the solver as in
 // the path tracer. Before the rule the final gather read the radiosity of the box's
-// bottom, closed in too but emitting like every face of the furnace (B = E = 1). A
-// probe beside the box reads the furnace's own value, E rho / (1 - rho) + E... here
-// only checked to be lit.
+// bottom, closed in too but emitting like every face of the furnace (B = E = 1), and
+// the path tracer's shadow rays reached the walls the box is pushed against through the
+// box's coincident faces (0.37). A probe on the clear floor is lit (about 2).
 TEST(OpenFraction, AProbeClosedInByAContactReadsZero) {
   const Scene scene = make_builtin("builtin:furnace?objects=2");
   const std::vector<Probe> probes = {{Vec3(0.9, 1e-6, 0.9), Vec3::UnitY()},    // under the box
@@ -178,6 +178,22 @@ TEST(OpenFraction, AProbeClosedInByAContactReadsZero) {
   const ReferenceResult r = pt.estimate(probes, po);
   EXPECT_EQ(r.probes[0].irradiance[0], 0.0);
   EXPECT_GT(r.probes[1].irradiance[0], 1.0);
+}
+
+// A point above a one-sided sheet is not closed in although most of its rays meet the
+// sheet's back: the cabin's ceiling 12 cm above its central lamp strip (0.5 m wide,
+// facing down), 6.5 cm from the strip's edge, gets light past the edge (the path
+// tracer: about 0.65 W/m^2, a quarter of the lit ceiling's).
+TEST(OpenFraction, APointAboveAOneSidedSheetIsOpen) {
+  const Scene scene = make_builtin("builtin:cabin?rows=1");
+  const Probe above{Vec3(0.185074, 2.7353962, 2.4), Vec3(-0.0878003, -0.9961381, 0)};
+  const RayScene rays = RayScene::from_scene(scene);
+  const Hierarchy h(scene, 1);
+  EXPECT_FALSE(point_closed_in(above.p, above.n, h, rays, 7));
+  const PathTracer pt(scene);
+  PathTracerOptions po;
+  po.max_samples = 1u << 12;
+  EXPECT_GT(pt.estimate(std::span<const Probe>(&above, 1), po).probes[0].irradiance[0], 0.1);
 }
 
 }  // namespace

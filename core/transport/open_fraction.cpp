@@ -198,20 +198,15 @@ bool point_closed_in(const Vec3& p, const Vec3& n, const Hierarchy& hierarchy, c
   const Vec3 u = n.unitOrthogonal();
   const Vec3 v = n.cross(u);
   std::uint64_t cast = 0;
-  int back = 0, front = 0;
-  // Stop once the majority is decided.
-  for (int k = 0; k < kProbeOpenRays && 2 * back <= kProbeOpenRays && 2 * front < kProbeOpenRays;
-       ++k) {
+  bool closed = true;
+  for (int k = 0; k < kProbeOpenRays && closed; ++k) {
     const auto i = 2 * static_cast<std::uint64_t>(k);
     const Vec3 dir = cosine_direction(n, u, v, hashed_uniform(key, i),
                                       (k + hashed_uniform(key, i + 1)) / kProbeOpenRays);
-    if (first_hit_is_back(p, dir, RayScene::kNoPolygon, hierarchy, rays, cast))
-      ++back;
-    else
-      ++front;
+    closed = first_hit_is_back(p, dir, RayScene::kNoPolygon, hierarchy, rays, cast);
   }
   if (rays_cast) *rays_cast += cast;
-  return 2 * back > kProbeOpenRays;
+  return closed;
 }
 
 }  // namespace hrad
