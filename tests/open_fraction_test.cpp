@@ -6,6 +6,7 @@
 #include "core/reference/path_tracer.h"
 #include "core/scene/builtin_scenes.h"
 #include "core/scene/probes.h"
+#include "core/scene/scene_builder.h"
 #include "core/solver/solver.h"
 
 #include <gtest/gtest.h>
@@ -194,6 +195,65 @@ TEST(OpenFraction, APointAboveAOneSidedSheetIsOpen) {
   PathTracerOptions po;
   po.max_samples = 1u << 12;
   EXPECT_GT(pt.estimate(std::span<const Probe>(&above, 1), po).probes[0].irradiance[0], 0.1);
+}
+
+// A unit room lit from its ceiling, and a cabinet without a bottom pushed into the
+// corner of the floor and the x+ wall (its back coincides with the wall). A probe on the
+// wall inside the cabinet meets the cabinet's inside (back faces) and the floor inside
+// it: a front, but one that is itself closed in. It sees nothing lit: 0, in the solver
+// as in the path tracer. A probe on the wall above the cabinet is lit.
+Scene room_with_open_bottom_cabinet() {
+  SceneBuilder b("cabinet", "test");
+  Material white;
+  white.name = "white";
+  white.reflectance = Rgb::Constant(0.7);
+  Material light = white;
+  light.name = "light";
+  light.emission = Rgb::Constant(10);
+  const SourceLoc at{"t", 0};
+  const auto w = b.add_material(white, at), l = b.add_material(light, at);
+  const auto quad = [&](Vec3 a, Vec3 c, Vec3 d, Vec3 e, std::uint32_t m) {
+    const std::vector<Vec3> q = {a, c, d, e};
+    b.add_polygon(std::span<const Vec3>(q), m, at);
+  };
+  // The room, faces inward.
+  quad({0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, w);                              // floor, +y
+  quad({0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}, w);                              // ceiling, -y
+  quad({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}, w);                              // x- wall, +x
+  quad({1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}, w);                              // x+ wall, -x
+  quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, w);                              // z- wall, +z
+  quad({0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}, w);                              // z+ wall, -z
+  quad({0.4, 0.99, 0.4}, {0.6, 0.99, 0.4}, {0.6, 0.99, 0.6}, {0.4, 0.99, 0.6}, l);  // lamp, -y
+  // The cabinet [0.6, 1] x [0, 0.3] x [0.3, 0.7], faces outward, no bottom.
+  quad({0.6, 0, 0.3}, {0.6, 0, 0.7}, {0.6, 0.3, 0.7}, {0.6, 0.3, 0.3}, w);  // x-
+  quad({1, 0, 0.3}, {1, 0.3, 0.3}, {1, 0.3, 0.7}, {1, 0, 0.7}, w);          // x+ (on the wall)
+  quad({0.6, 0.3, 0.3}, {0.6, 0.3, 0.7}, {1, 0.3, 0.7}, {1, 0.3, 0.3}, w);  // top
+  quad({0.6, 0, 0.3}, {0.6, 0.3, 0.3}, {1, 0.3, 0.3}, {1, 0, 0.3}, w);      // z-
+  quad({0.6, 0, 0.7}, {1, 0, 0.7}, {1, 0.3, 0.7}, {0.6, 0.3, 0.7}, w);      // z+
+  return b.finish("t");
+}
+
+TEST(OpenFraction, AProbeInsideACabinetWithoutABottomSeesNothing) {
+  const Scene scene = room_with_open_bottom_cabinet();
+  const std::vector<Probe> probes = {{Vec3(1 - 1e-6, 0.15, 0.5), -Vec3::UnitX()},  // inside
+                                     {Vec3(1 - 1e-6, 0.6, 0.5), -Vec3::UnitX()}};  // above
+  const RayScene rays = RayScene::from_scene(scene);
+  const Hierarchy h(scene, 1);
+  EXPECT_TRUE(point_closed_in(probes[0].p, probes[0].n, h, rays, 7));
+  EXPECT_FALSE(point_closed_in(probes[1].p, probes[1].n, h, rays, 7));
+  SolverOptions o;
+  o.threads = 1;
+  Solver solver(scene, o);
+  solver.run();
+  const std::vector<Rgb> e = solver.probe_irradiance(probes);
+  EXPECT_EQ(e[0][0], 0.0);
+  EXPECT_GT(e[1][0], 0.1);
+  const PathTracer pt(scene);
+  PathTracerOptions po;
+  po.max_samples = 1u << 12;
+  const ReferenceResult r = pt.estimate(probes, po);
+  EXPECT_EQ(r.probes[0].irradiance[0], 0.0);
+  EXPECT_GT(r.probes[1].irradiance[0], 0.1);
 }
 
 }  // namespace
