@@ -144,6 +144,9 @@ TEST(ExperimentConfig, RangesNamesAndConflicts) {
   j = minimal();
   j["sweep"] = ojson::parse(R"({"threads": [1, 1]})");
   EXPECT_NE(error_of(j).find("twice"), std::string::npos);
+  j = minimal();
+  j["sweep"] = ojson::parse(R"({"eps": [1e-3, 2e-3, 0.001]})");
+  EXPECT_NE(error_of(j).find("lists 0.001 twice"), std::string::npos) << error_of(j);
   // quick may only narrow axes the sweep has, and its values are checked too.
   j = full();
   j["quick"]["sweep"] = ojson::parse(R"({"block_size": [1]})");
