@@ -197,6 +197,18 @@ TEST(OpenFraction, APointAboveAOneSidedSheetIsOpen) {
   EXPECT_GT(pt.estimate(std::span<const Probe>(&above, 1), po).probes[0].irradiance[0], 0.1);
 }
 
+// A point that looks mostly out of the Cornell box's open side (z < 0) sees nothing in
+// most directions, and a little of the lit box in some: it is not closed in, whatever
+// share of its rays leaves the scene.
+TEST(OpenFraction, APointLookingOutOfAnOpenBoxIsOpen) {
+  const Scene scene = make_builtin("builtin:cornell");
+  const RayScene rays = RayScene::from_scene(scene);
+  const Hierarchy h(scene, 1);
+  const Vec3 p(2.78, 1e-5, 0.02), n = Vec3(0, 0.05, -1).normalized();
+  for (std::uint64_t key = 0; key < 16; ++key)
+    EXPECT_FALSE(point_closed_in(p, n, h, rays, key)) << key;
+}
+
 // A unit room lit from its ceiling, and a cabinet without a bottom pushed into the
 // corner of the floor and the x+ wall (its back coincides with the wall). A probe on the
 // wall inside the cabinet meets the cabinet's inside (back faces) and the floor inside

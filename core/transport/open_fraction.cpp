@@ -208,7 +208,12 @@ bool point_closed_in(const Vec3& p, const Vec3& n, const Hierarchy& hierarchy, c
     const auto i = 2 * static_cast<std::uint64_t>(k);
     const Vec3 dir = cosine_direction(n, u, v, hashed_uniform(key, i),
                                       (k + hashed_uniform(key, i + 1)) / kProbeOpenRays);
-    if (first_hit(p, dir, RayScene::kNoPolygon, hierarchy, rays, cast) != FirstHit::Front) continue;
+    const FirstHit first = first_hit(p, dir, RayScene::kNoPolygon, hierarchy, rays, cast);
+    if (first == FirstHit::Back) continue;
+    if (first == FirstHit::None) {  // it leaves the scene: the point may see light elsewhere
+      closed = false;
+      break;
+    }
     // A front it meets may itself be closed in (the floor inside a box without a bottom):
     // the leaves' rule at the point it meets, from kOpenRays rays.
     ++cast;

@@ -94,12 +94,13 @@ double estimate_open_fraction(const Element& e, const Hierarchy& hierarchy, cons
 inline constexpr int kProbeOpenRays = 8;
 /// Whether the point p with unit normal n sees nothing: each of kProbeOpenRays
 /// cosine-distributed rays (stratified in azimuth, from stream `key`) first meets a
-/// back face, leaves the scene, or meets a front at a point that is itself closed in by
-/// the leaves' rule (most of kOpenRays rays from it meet back faces: the floor inside a
-/// cabinet without a bottom). So a point on the floor under a box, on a wall behind or
-/// inside a cabinet pushed against it, or on the top of a fitting flush with the
-/// ceiling. Such a point sees only the inside of a solid, which is black, or the void:
-/// its irradiance is 0 (the reference path tracer's too). Every ray, not most
+/// back face or a front at a point that is itself closed in by the leaves' rule (most
+/// of kOpenRays rays from it meet back faces: the floor inside a cabinet without a
+/// bottom). So a point on the floor under a box, on a wall behind or inside a cabinet
+/// pushed against it, or on the top of a fitting flush with the ceiling. Such a point
+/// sees only the inside of a solid, which is black: its irradiance is 0 (the reference
+/// path tracer's too). A ray that leaves the scene makes the point open: a point that
+/// looks mostly out of the Cornell box's open side still sees some of its light. Every ray, not most
 /// as for the leaves' points: a point above a one-sided sheet (a lamp strip hanging
 /// under a ceiling) sees the sheet's back in most directions but light past its edges
 /// (in the cabin, 0.65 of the irradiance the lit ceiling gets). Adds the rays cast to
