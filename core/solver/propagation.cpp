@@ -439,7 +439,8 @@ class PassState {
   // direction: per unit of the cluster's exposed area (its open area over its exposed
   // area), times the member's exposure, times its axis share for a polygon or over its
   // own gain for a cluster (whose own push divides by it again). The total over the
-  // members is what arrived.
+  // members is what arrived. Along a direction in which no member is exposed, the
+  // members share it alike (else it would be lost).
   void prepare_exposures(int threads) {
     const auto n = static_cast<std::ptrdiff_t>(size());
 #pragma omp parallel for num_threads(threads) schedule(static)
@@ -448,10 +449,16 @@ class PassState {
       if (d.xslot == kNone) continue;
       const ClusterLight& parent = *light_[d.parent];
       std::array<float, 6>& in = xin_[d.xslot];
+      const bool is_cluster = cluster(static_cast<std::size_t>(i));
+      const std::array<double, 6> w =
+          is_cluster ? std::array<double, 6>{1, 1, 1, 1, 1, 1} : axis_shares(normal_[i]);
       for (std::size_t k = 0; k < 6; ++k) {
+        if (!(parent.exposed_area[k] > 0)) {  // every member hidden: shared alike
+          in[k] = static_cast<float>(w[k]);
+          continue;
+        }
         double g = static_cast<double>(xout_[d.xslot][k]) * exposure_gain(parent, k);
-        if (cluster(static_cast<std::size_t>(i)))
-          g /= exposure_gain(*light_[static_cast<std::size_t>(i)], k);
+        if (is_cluster) g /= exposure_gain(*light_[static_cast<std::size_t>(i)], k);
         in[k] = static_cast<float>(g);
       }
     }

@@ -67,6 +67,7 @@ ExposureStats compute_cluster_exposure(Hierarchy& hierarchy, const RayScene& ray
     }
   }
   std::vector<ChildSums> sums(clusters.size());
+  const double slack = 4 * RayScene::kEndpointEpsilon * rays.scale();
   const auto n = static_cast<std::ptrdiff_t>(members.size());
   std::uint64_t cast = 0;
   double exposed_area = 0, facing_area = 0;
@@ -104,9 +105,9 @@ ExposureStats compute_cluster_exposure(Hierarchy& hierarchy, const RayScene& ray
           const auto hit = rays.intersect(at, dir, std::numeric_limits<double>::infinity(), m.face);
           const double t = hit ? hit->t : std::numeric_limits<double>::infinity();
           // The boxes grow along the chain: once a ray stops inside one, it stops inside
-          // every larger one.
-          for (std::size_t l = 0; l < chain.size() && t > exit_distance(chain[l]->box, at, dir);
-               ++l)
+          // every larger one. A hit on the box's face (a wall the cluster holds) is out.
+          for (std::size_t l = 0;
+               l < chain.size() && t >= exit_distance(chain[l]->box, at, dir) - slack; ++l)
             exposure[l] += 1;
         }
         if (counted == 0) continue;
