@@ -655,7 +655,7 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
   // Final gather: irradiance = sum over leaf surfaces of B_s x F(point -> s) x V,
   // with the exact point-to-polygon form factor and the kernel-weighted visibility of
   // Transport::visibility_from_point, from rays whose random numbers hash the probe
-  // index and the element id; 0 at a point closed in by a contact.
+  // index and the element id; 0 at a point that sees nothing (point_closed_in).
   const Impl& m = *impl_;
   const std::vector<const Element*> leaves = leaf_surfaces(m.hierarchy.root());
   const int k = std::max(m.options.visibility_rays, 8);
@@ -670,8 +670,8 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
     if (progress && omp_get_thread_num() == 0)
       progress(fmt::format("probes: {} of {}", finished, n), static_cast<double>(finished) / n);
     const Probe& pr = probes[static_cast<std::size_t>(i)];
-    // A point closed in by a contact sees only the black inside of a solid
-    // (core/transport/open_fraction.h): 0, by the rule the leaves follow.
+    // A point that sees nothing but the black inside of a solid (closed in by a
+    // contact; core/transport/open_fraction.h, point_closed_in) gets 0.
     if (m.effects.visibility.on &&
         point_closed_in(pr.p, pr.n, m.hierarchy, m.rays,
                         child_id(static_cast<std::uint64_t>(i), 0xC105EDu) ^ m.options.seed))

@@ -18,8 +18,8 @@ namespace hrad {
 
 namespace {
 
-// Whether the first surface along the ray is the back of a face. Two faces that
-// coincide (a box pushed into a corner: its side and the wall lie in one plane)
+// What the first surface along the ray shows: the back of a face, its front, or
+// nothing (the ray leaves the scene). Two faces that coincide (a box pushed into a corner: its side and the wall lie in one plane)
 // are met at the same distance, and the ray query reports either; a back face there
 // wins, since the point is inside the box whichever is reported. Adds the rays it
 // cast (one or two) to `cast`. The two sides of a two-sided sheet (twins, see
@@ -218,7 +218,10 @@ bool point_closed_in(const Vec3& p, const Vec3& n, const Hierarchy& hierarchy, c
     // the leaves' rule at the point it meets, from kOpenRays rays.
     ++cast;
     const auto hit = rays.intersect(p, dir, std::numeric_limits<double>::infinity());
-    if (!hit) continue;
+    if (!hit) {  // (the same ray as first_hit's: not expected)
+      closed = false;
+      break;
+    }
     const Vec3 at = p + hit->t * dir;
     const Vec3& m = hierarchy.face_normal(hit->prim);
     const Vec3 mu = m.unitOrthogonal(), mv = m.cross(mu);
