@@ -15,14 +15,22 @@
 // So each child c of a cluster P carries, per axis direction k, its exposure X_ck in
 // [0, 1] within P: for a member polygon, the share of kExposureRays rays from points
 // on it, cosine-distributed about k (folded into its front half-space), that leave
-// P's bounding box before they hit anything; for a child cluster, the same share
+// P's bounding box before they hit anything (a hit on the box's face, a wall that P
+// holds, counts as leaving); for a child cluster, the same share
 // over its members' rays, taken among those that left the child's own box (weighted
 // by the members' area along k), so that a member's exposure within an ancestor is
 // the product of the factors along its chain. The propagation
 // (core/solver/propagation.cpp) weighs both ways by it: light arriving at P along k is
 // shared by open area times X (the total kept), and P shows along k the mean of its
-// members' radiosity weighted by open area times X. Reciprocity is kept: member m and
-// a receiver exchange in proportion to m's area along k times its exposure, both ways.
+// members' radiosity weighted by open area times X (along a direction in which no
+// member is exposed, by open area alone). Reciprocity is kept: member m and a receiver
+// exchange in proportion to m's area along k times its exposure, both ways.
+//
+// A study option (cluster_members = exposed), not the default: the factors multiply
+// along the chain, so a member exposed within its own small cluster but hidden by a
+// surface of the next one up (a luggage bin's side 2 cm from the fuselage) still
+// counts as exposed there, and in the cabin the propagation then needs 20 times the
+// sweeps (docs/energy-budget.md).
 //
 // The rays depend only on the geometry, the hierarchy's ids and the seed: computed
 // once per run, before the first propagation.
