@@ -5,8 +5,8 @@
 #include "core/hierarchy/hierarchy.h"
 #include "core/raycast/ray_scene.h"
 #include "core/scene/builtin_scenes.h"
-#include "core/scene/scene_builder.h"
 #include "core/solver/solver.h"
+#include "tests/lit_room.h"
 
 #include <gtest/gtest.h>
 
@@ -22,26 +22,9 @@ namespace {
 // from the lamp by it. (Material 0: white; face 0 .. 5: room; 6: lamp; 7 .. 12: slab;
 // 13: the hidden plate.)
 Scene room_with_hidden_plate() {
-  SceneBuilder b("hidden", "test");
-  Material white;
-  white.name = "white";
-  white.reflectance = Rgb::Constant(0.6);
-  Material light = white;
-  light.name = "light";
-  light.emission = Rgb::Constant(10);
-  const SourceLoc at{"t", 0};
-  const auto w = b.add_material(white, at), l = b.add_material(light, at);
-  const auto quad = [&](Vec3 a, Vec3 c, Vec3 d, Vec3 e, std::uint32_t m) {
-    const std::vector<Vec3> q = {a, c, d, e};
-    b.add_polygon(std::span<const Vec3>(q), m, at);
-  };
-  quad({0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, w);                              // floor, +y
-  quad({0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}, w);                              // ceiling, -y
-  quad({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}, w);                              // x- wall, +x
-  quad({1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}, w);                              // x+ wall, -x
-  quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, w);                              // z- wall, +z
-  quad({0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}, w);                              // z+ wall, -z
-  quad({0.4, 0.99, 0.4}, {0.6, 0.99, 0.4}, {0.6, 0.99, 0.6}, {0.4, 0.99, 0.6}, l);  // lamp
+  test::LitRoom r(0.6);
+  const auto w = r.white;
+  const auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d, std::uint32_t m) { r.quad(a, b, c, d, m); };
   const double y0 = 0.50, y1 = 0.52;
   quad({0.3, y1, 0.3}, {0.3, y1, 0.7}, {0.7, y1, 0.7}, {0.7, y1, 0.3}, w);  // slab top, +y
   quad({0.3, y0, 0.3}, {0.7, y0, 0.3}, {0.7, y0, 0.7}, {0.3, y0, 0.7}, w);  // bottom, -y
@@ -50,7 +33,7 @@ Scene room_with_hidden_plate() {
   quad({0.3, y0, 0.3}, {0.3, y1, 0.3}, {0.7, y1, 0.3}, {0.7, y0, 0.3}, w);  // z-
   quad({0.3, y0, 0.7}, {0.7, y0, 0.7}, {0.7, y1, 0.7}, {0.3, y1, 0.7}, w);  // z+
   quad({0.45, 0.49, 0.45}, {0.45, 0.49, 0.55}, {0.55, 0.49, 0.55}, {0.55, 0.49, 0.45}, w);
-  return b.finish("t");
+  return r.finish();
 }
 
 // The exposure of face f's top element along axis direction k, multiplied along its

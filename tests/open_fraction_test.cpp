@@ -6,8 +6,8 @@
 #include "core/reference/path_tracer.h"
 #include "core/scene/builtin_scenes.h"
 #include "core/scene/probes.h"
-#include "core/scene/scene_builder.h"
 #include "core/solver/solver.h"
+#include "tests/lit_room.h"
 
 #include <gtest/gtest.h>
 
@@ -215,34 +215,16 @@ TEST(OpenFraction, APointLookingOutOfAnOpenBoxIsOpen) {
 // it: a front, but one that is itself closed in. It sees nothing lit: 0, in the solver
 // as in the path tracer. A probe on the wall above the cabinet is lit.
 Scene room_with_open_bottom_cabinet() {
-  SceneBuilder b("cabinet", "test");
-  Material white;
-  white.name = "white";
-  white.reflectance = Rgb::Constant(0.7);
-  Material light = white;
-  light.name = "light";
-  light.emission = Rgb::Constant(10);
-  const SourceLoc at{"t", 0};
-  const auto w = b.add_material(white, at), l = b.add_material(light, at);
-  const auto quad = [&](Vec3 a, Vec3 c, Vec3 d, Vec3 e, std::uint32_t m) {
-    const std::vector<Vec3> q = {a, c, d, e};
-    b.add_polygon(std::span<const Vec3>(q), m, at);
-  };
-  // The room, faces inward.
-  quad({0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, w);                              // floor, +y
-  quad({0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}, w);                              // ceiling, -y
-  quad({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}, w);                              // x- wall, +x
-  quad({1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}, w);                              // x+ wall, -x
-  quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, w);                              // z- wall, +z
-  quad({0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}, w);                              // z+ wall, -z
-  quad({0.4, 0.99, 0.4}, {0.6, 0.99, 0.4}, {0.6, 0.99, 0.6}, {0.4, 0.99, 0.6}, l);  // lamp, -y
+  test::LitRoom r(0.7);
+  const auto w = r.white;
+  const auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d, std::uint32_t m) { r.quad(a, b, c, d, m); };
   // The cabinet [0.6, 1] x [0, 0.3] x [0.3, 0.7], faces outward, no bottom.
   quad({0.6, 0, 0.3}, {0.6, 0, 0.7}, {0.6, 0.3, 0.7}, {0.6, 0.3, 0.3}, w);  // x-
   quad({1, 0, 0.3}, {1, 0.3, 0.3}, {1, 0.3, 0.7}, {1, 0, 0.7}, w);          // x+ (on the wall)
   quad({0.6, 0.3, 0.3}, {0.6, 0.3, 0.7}, {1, 0.3, 0.7}, {1, 0.3, 0.3}, w);  // top
   quad({0.6, 0, 0.3}, {0.6, 0.3, 0.3}, {1, 0.3, 0.3}, {1, 0, 0.3}, w);      // z-
   quad({0.6, 0, 0.7}, {1, 0, 0.7}, {1, 0.3, 0.7}, {0.6, 0.3, 0.7}, w);      // z+
-  return b.finish("t");
+  return r.finish();
 }
 
 TEST(OpenFraction, AProbeInsideACabinetWithoutABottomSeesNothing) {
