@@ -351,6 +351,16 @@ const Vec3& RayScene::normal(std::uint32_t poly) const { return impl_->normal.at
 
 bool RayScene::lies_against(std::uint32_t poly) const { return impl_->contact.at(poly) != 0; }
 
+bool RayScene::back_coincides(const Vec3& origin, const Vec3& dir, double t,
+                              std::uint32_t poly) const {
+  if (!lies_against(poly)) return false;  // nothing coincides with it
+  const double back_off = 4 * kEndpointEpsilon * scale() / dir.norm();
+  // (Not from behind the origin: the face it lies on would be met there.)
+  const double start = std::max(t - back_off, 0.0);
+  const auto twin = intersect(origin + start * dir, dir, t - start + back_off, poly);
+  return twin && normal(twin->prim).dot(dir) > 0;
+}
+
 namespace {
 
 // rtcPointQuery's state: the visitor, and whether it asked to stop.

@@ -142,6 +142,15 @@ class RayScene {
   /// boxes overlapping (core/raycast/face_contacts.h; a twin does not count). Only such
   /// a polygon has a surface at distance zero that the end-point exclusion hides.
   [[nodiscard]] bool lies_against(std::uint32_t poly) const;
+  /// Whether, where the ray origin + t * dir meets the front of `poly`, the back of
+  /// another polygon coincides with it (a box pushed against the wall `poly`): the point
+  /// there is the inside of a solid, whichever of the two intersect() reported. A second
+  /// look around the hit, without `poly`; false at once for a polygon that does not
+  /// lie_against() another. The solver's open fractions and probes
+  /// (core/transport/open_fraction.cpp) and the reference's paths
+  /// (core/reference/path_tracer.cpp) take such a point as black.
+  [[nodiscard]] bool back_coincides(const Vec3& origin, const Vec3& dir, double t,
+                                    std::uint32_t poly) const;
   /// The reach of lies_against(), relative to scale(): four times the reach of the open
   /// fractions' contact tests (core/transport/open_fraction.cpp).
   static constexpr double kContactReach = 16 * kEndpointEpsilon;

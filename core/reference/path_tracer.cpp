@@ -127,21 +127,12 @@ Rgb PathTracer::direct(const Vec3& x, const Vec3& n, std::uint32_t face, Rng& rn
   if (rays_.occluded(x, z, face, static_cast<std::uint32_t>(e.face))) return Rgb::Zero();
   // The end-point exclusion skips a face coincident with the emitter's at z: from inside
   // a box pushed against an emitting wall the wall must not show.
-  if (rays_.lies_against(e.face) && behind_coincident_back(x, d / r, r, e.face)) return Rgb::Zero();
+  if (rays_.back_coincides(x, d / r, r, e.face)) return Rgb::Zero();
   // (E / pi) cos_x cos_z / r^2 / p_area times the balance weight p_l / (p_l + p_b),
   // with p_l = p_area r^2 / cos_z and p_b = cos_x / pi (solid angle): E cos_x / (pi (p_l + p_b)).
   const double p_l = e.pdf / areas_[e.face] * r2 / cos_z;
   const double p_b = cos_x / std::numbers::pi;
   return scene_.face_material(e.face).emission * (cos_x / (std::numbers::pi * (p_l + p_b)));
-}
-
-bool PathTracer::behind_coincident_back(const Vec3& x, const Vec3& d, double t,
-                                        std::uint32_t face) const {
-  const double back_off = 4 * RayScene::kEndpointEpsilon * rays_.scale();
-  // (Not from behind x: the face x lies on would be met there.)
-  const double start = std::max(t - back_off, 0.0);
-  const auto hit = rays_.intersect(x + start * d, d, t - start + back_off, face);
-  return hit && normals_[hit->prim].dot(d) > 0;
 }
 
 Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth, bool& cut) const {
@@ -164,7 +155,7 @@ Rgb PathTracer::trace(const Probe& probe, Rng& rng, int rr_depth, bool& cut) con
     const Vec3& nf = normals_[hit->prim];
     const double cos_y = -dir.dot(nf);
     if (cos_y <= 0) break;  // the back of a polygon is black
-    if (rays_.lies_against(hit->prim) && behind_coincident_back(x, dir, hit->t, hit->prim))
+    if (rays_.back_coincides(x, dir, hit->t, hit->prim))
       break;  // ... and so is a front that coincides with a back (the inside of a solid)
     const Vec3 y = x + hit->t * dir;
     const Material& m = scene_.face_material(hit->prim);

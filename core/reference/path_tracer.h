@@ -116,12 +116,6 @@ class PathTracer {
   /// Solid-angle density at x of next-event estimation choosing point z on `face`.
   double light_pdf(std::uint32_t face, const Vec3& x, const Vec3& z) const;
   Vec3 sample_on_face(std::uint32_t face, Rng& rng) const;
-  /// Whether the back of another face lies at the point t along the unit direction d
-  /// from x, coincident with the front of `face` there (a box pushed against the wall
-  /// `face`): the point is then the inside of a solid, black, whichever of the two the
-  /// ray query reports (the rule of the solver's open fractions,
-  /// core/transport/open_fraction.h). Only asked for a face that lies against another.
-  bool behind_coincident_back(const Vec3& x, const Vec3& d, double t, std::uint32_t face) const;
   /// One path's estimate; `cut`: it reached kMaxBounces.
   Rgb trace(const Probe& probe, Rng& rng, int rr_depth, bool& cut) const;
 

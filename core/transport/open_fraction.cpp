@@ -22,24 +22,23 @@ namespace {
 // nothing (the ray leaves the scene). Two faces that coincide (a box pushed into a corner: its side and the wall lie in one plane)
 // are met at the same distance, and the ray query reports either; a back face there
 // wins, since the point is inside the box whichever is reported. Adds the rays it
-// cast (one or two) to `cast`. The two sides of a two-sided sheet (twins, see
-// core/raycast/face_twins.h) are one surface here: the ray query reports the side whose front
-// it meets, and the second look ignores both.
+// cast (one or two) to `cast`; a front hit into `front` when given. The two sides of a
+// two-sided sheet (twins, see core/raycast/face_twins.h) are one surface here: the ray
+// query reports the side whose front it meets, and the second look
+// (RayScene::back_coincides) ignores both.
 enum class FirstHit : std::uint8_t { None, Front, Back };
 FirstHit first_hit(const Vec3& at, const Vec3& dir, std::uint32_t own, const Hierarchy& h,
-                   const RayScene& rays, std::uint64_t& cast) {
+                   const RayScene& rays, std::uint64_t& cast, RayHit* front = nullptr) {
   ++cast;
   const auto hit = rays.intersect(at, dir, std::numeric_limits<double>::infinity(), own);
   if (!hit) return FirstHit::None;
   if (h.face_normal(hit->prim).dot(dir) > 0) return FirstHit::Back;
-  if (!rays.lies_against(hit->prim)) return FirstHit::Front;  // nothing coincides with it
-  ++cast;
-  // Look again just around the front hit, without it, for a coincident back face.
-  const double back_off = 4 * RayScene::kEndpointEpsilon * rays.scale() / dir.norm();
-  // (Not from behind the start: the point's own face would be met there.)
-  const double start = std::max(hit->t - back_off, 0.0);
-  const auto twin = rays.intersect(at + start * dir, dir, hit->t - start + back_off, hit->prim);
-  return twin && h.face_normal(twin->prim).dot(dir) > 0 ? FirstHit::Back : FirstHit::Front;
+  if (rays.lies_against(hit->prim)) {
+    ++cast;
+    if (rays.back_coincides(at, dir, hit->t, hit->prim)) return FirstHit::Back;
+  }
+  if (front) *front = *hit;
+  return FirstHit::Front;
 }
 bool first_hit_is_back(const Vec3& at, const Vec3& dir, std::uint32_t own, const Hierarchy& h,
                        const RayScene& rays, std::uint64_t& cast) {
@@ -208,7 +207,8 @@ bool point_closed_in(const Vec3& p, const Vec3& n, const Hierarchy& hierarchy, c
     const auto i = 2 * static_cast<std::uint64_t>(k);
     const Vec3 dir = cosine_direction(n, u, v, hashed_uniform(key, i),
                                       (k + hashed_uniform(key, i + 1)) / kProbeOpenRays);
-    const FirstHit first = first_hit(p, dir, RayScene::kNoPolygon, hierarchy, rays, cast);
+    RayHit hit;
+    const FirstHit first = first_hit(p, dir, RayScene::kNoPolygon, hierarchy, rays, cast, &hit);
     if (first == FirstHit::Back) continue;
     if (first == FirstHit::None) {  // it leaves the scene: the point may see light elsewhere
       closed = false;
@@ -216,21 +216,15 @@ bool point_closed_in(const Vec3& p, const Vec3& n, const Hierarchy& hierarchy, c
     }
     // A front it meets may itself be closed in (the floor inside a box without a bottom):
     // the leaves' rule at the point it meets, from kOpenRays rays.
-    ++cast;
-    const auto hit = rays.intersect(p, dir, std::numeric_limits<double>::infinity());
-    if (!hit) {  // (the same ray as first_hit's: not expected)
-      closed = false;
-      break;
-    }
-    const Vec3 at = p + hit->t * dir;
-    const Vec3& m = hierarchy.face_normal(hit->prim);
+    const Vec3 at = p + hit.t * dir;
+    const Vec3& m = hierarchy.face_normal(hit.prim);
     const Vec3 mu = m.unitOrthogonal(), mv = m.cross(mu);
     int back = 0;
     for (int j = 0; j < kOpenRays; ++j) {
       const auto q = i * 16 + 2 * static_cast<std::uint64_t>(j) + 64;
       const Vec3 d = cosine_direction(m, mu, mv, hashed_uniform(key, q),
                                       (j + hashed_uniform(key, q + 1)) / kOpenRays);
-      back += first_hit(at, d, hit->prim, hierarchy, rays, cast) == FirstHit::Back ? 1 : 0;
+      back += first_hit(at, d, hit.prim, hierarchy, rays, cast) == FirstHit::Back ? 1 : 0;
     }
     closed = 2 * back > kOpenRays;
   }
