@@ -51,9 +51,7 @@ double chain_exposure(const Hierarchy& h, std::uint32_t f, std::size_t k) {
       if (e.face != f) continue;
       double x = 1;
       for (const Element* m = &e; m->parent && m->parent->parent; m = m->parent)
-        x *= static_cast<double>(
-            m->parent->light
-                ->exposure[static_cast<std::size_t>(m - m->parent->child_span().data())][k]);
+        x *= static_cast<double>(exposure_within_parent(*m)[k]);
       return x;
     }
   }

@@ -2,6 +2,7 @@
 
 #include "core/base/interrupt.h"
 #include "core/parallel/team_barrier.h"
+#include "core/transport/cluster_exposure.h"
 #include "core/transport/open_fraction.h"
 
 #include <omp.h>
@@ -223,8 +224,7 @@ class PassState {
       const Element& e = *l.order[i];
       if (!e.parent || !e.parent->light || e.parent->light->exposure.empty()) continue;
       node_[i].xslot = static_cast<std::uint32_t>(xout_.size());
-      const std::array<float, 6>& x =
-          e.parent->light->exposure[static_cast<std::size_t>(&e - e.parent->child_span().data())];
+      const std::array<float, 6>& x = exposure_within_parent(e);
       // What the pull weighs the member's light by along each axis direction: its
       // exposure, times its axis share for a polygon (add_by_axis).
       std::array<float, 6> out{};

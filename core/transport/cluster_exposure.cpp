@@ -83,8 +83,7 @@ ExposureStats compute_cluster_exposure(Hierarchy& hierarchy, const RayScene& ray
       for (Element* c = m.parent; c != nullptr; c = c->parent) chain.push_back(c);
       const std::array<double, 6> share = axis_shares(m.normal);
       const std::uint64_t key = child_id(m.id, 0xE7905u) ^ seed;
-      std::array<float, 6>& own =
-          chain[0]->light->exposure[static_cast<std::size_t>(&m - chain[0]->child_span().data())];
+      std::array<float, 6>& own = exposure_within_parent(m);
       for (std::size_t k = 0; k < 6; ++k) {
         if (!(share[k] > 0)) continue;
         const Vec3 axis = axis_direction(k);
@@ -128,11 +127,9 @@ ExposureStats compute_cluster_exposure(Hierarchy& hierarchy, const RayScene& ray
   }
   throw_if_interrupted();
   for (Element* c : clusters) {
-    Element* p = c->parent;
-    if (p == nullptr) continue;
+    if (c->parent == nullptr) continue;
     const ChildSums& s = sums[c->index];
-    std::array<float, 6>& x =
-        p->light->exposure[static_cast<std::size_t>(c - p->child_span().data())];
+    std::array<float, 6>& x = exposure_within_parent(*c);
     for (std::size_t k = 0; k < 6; ++k)
       x[k] = s.within_own[k] > 0 ? static_cast<float>(s.within_parent[k] / s.within_own[k]) : 1.0f;
   }

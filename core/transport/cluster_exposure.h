@@ -36,6 +36,9 @@
 // once per run, before the first propagation.
 #pragma once
 
+#include "core/hierarchy/element.h"
+
+#include <array>
 #include <cstdint>
 
 namespace hrad {
@@ -52,6 +55,17 @@ struct ExposureStats {
   /// exposure within their own cluster.
   double mean_exposure = 1;
 };
+
+/// A child's exposure within its parent cluster per axis direction: the entry of the
+/// parent's ClusterLight::exposure that belongs to it (the parent must have them).
+inline const std::array<float, 6>& exposure_within_parent(const Element& child) {
+  const Element& p = *child.parent;
+  return p.light->exposure[static_cast<std::size_t>(&child - p.child_span().data())];
+}
+inline std::array<float, 6>& exposure_within_parent(Element& child) {
+  Element& p = *child.parent;
+  return p.light->exposure[static_cast<std::size_t>(&child - p.child_span().data())];
+}
 
 /// Fills ClusterLight::exposure of every cluster (creating its ClusterLight). On
 /// `threads` threads; polls for interrupts (throws Interrupted).
