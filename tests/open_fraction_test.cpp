@@ -147,6 +147,23 @@ TEST(OpenFraction, TheShortcutForUncrossedPiecesAgreesWithTheFullEstimate) {
   EXPECT_LT(3 * quick_rays, full_rays);
 }
 
+// Probes {closed in, lit}: the solver (with `o`) and the path tracer both give the first
+// exactly 0 and the second more than `lit`.
+void expect_dark_and_lit(const Scene& scene, const std::vector<Probe>& probes,
+                         const SolverOptions& o, double lit) {
+  Solver solver(scene, o);
+  solver.run();
+  const std::vector<Rgb> e = solver.probe_irradiance(probes);
+  EXPECT_EQ(e[0][0], 0.0);
+  EXPECT_GT(e[1][0], lit);
+  const PathTracer pt(scene);
+  PathTracerOptions po;
+  po.max_samples = 1u << 12;
+  const ReferenceResult r = pt.estimate(probes, po);
+  EXPECT_EQ(r.probes[0].irradiance[0], 0.0);
+  EXPECT_GT(r.probes[1].irradiance[0], lit);
+}
+
 // A probe point closed in by a contact (on the floor under the cluttered furnace's
 // corner box, [0.8, 1]^2, lifted 1e-6 off it as `hrad reference --random-probes` lifts
 // its points) sees only the box's black inside: its irradiance is 0, in the solver as in
@@ -170,17 +187,7 @@ TEST(OpenFraction, AProbeClosedInByAContactReadsZero) {
   SolverOptions o;
   o.eps = 1e-3;
   o.threads = 1;
-  Solver solver(scene, o);
-  solver.run();
-  const std::vector<Rgb> e = solver.probe_irradiance(probes);
-  EXPECT_EQ(e[0][0], 0.0);
-  EXPECT_GT(e[1][0], 1.0);
-  const PathTracer pt(scene);
-  PathTracerOptions po;
-  po.max_samples = 1u << 12;
-  const ReferenceResult r = pt.estimate(probes, po);
-  EXPECT_EQ(r.probes[0].irradiance[0], 0.0);
-  EXPECT_GT(r.probes[1].irradiance[0], 1.0);
+  expect_dark_and_lit(scene, probes, o, 1.0);
 }
 
 // A point above a one-sided sheet is not closed in although most of its rays meet the
@@ -239,17 +246,7 @@ TEST(OpenFraction, AProbeInsideACabinetWithoutABottomSeesNothing) {
   EXPECT_FALSE(point_closed_in(probes[1].p, probes[1].n, h, rays, 7));
   SolverOptions o;
   o.threads = 1;
-  Solver solver(scene, o);
-  solver.run();
-  const std::vector<Rgb> e = solver.probe_irradiance(probes);
-  EXPECT_EQ(e[0][0], 0.0);
-  EXPECT_GT(e[1][0], 0.1);
-  const PathTracer pt(scene);
-  PathTracerOptions po;
-  po.max_samples = 1u << 12;
-  const ReferenceResult r = pt.estimate(probes, po);
-  EXPECT_EQ(r.probes[0].irradiance[0], 0.0);
-  EXPECT_GT(r.probes[1].irradiance[0], 0.1);
+  expect_dark_and_lit(scene, probes, o, 0.1);
 }
 
 }  // namespace

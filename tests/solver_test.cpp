@@ -507,18 +507,25 @@ TEST(SolverClusterReceiver, CosineRedistributesButConservesGatheredPower) {
   EXPECT_GT(moved, 0) << "cosine mode changed nothing: no cluster receiver links?";
 }
 
+// In a closed furnace every member of a cluster has the same radiosity, so neither the
+// cosine split nor weighing the members by their exposure (cluster_members = exposed,
+// core/transport/cluster_exposure.h) changes anything: B = E / (1 - rho) everywhere.
 TEST(SolverClusterReceiver, CosineFurnaceStillExactWithNormalizedRowSums) {
   const Scene scene = make_builtin("builtin:furnace?rho=0.9");
-  SolverOptions o;
-  o.iterations = 2;
-  o.row_sums = RowSumMode::Normalize;
-  o.cluster_receiver = ClusterReceiver::Cosine;
-  o.eps = 1e-3;
-  Solver s(scene, o);
-  s.run();
-  const double expected = scene.materials[0].emission[0] / (1 - 0.9);
-  for (const auto& l : s.leaves()) {
-    ASSERT_NEAR(l.radiosity[0], expected, 1e-3 * expected);
+  for (const ClusterMembers members : {ClusterMembers::Alike, ClusterMembers::Exposed}) {
+    SolverOptions o;
+    o.iterations = 2;
+    o.row_sums = RowSumMode::Normalize;
+    o.cluster_receiver = ClusterReceiver::Cosine;
+    o.cluster_members = members;
+    o.eps = 1e-3;
+    Solver s(scene, o);
+    const RunStats stats = s.run();
+    EXPECT_EQ(stats.iterations.front().exposure_rays > 0, members == ClusterMembers::Exposed);
+    const double expected = scene.materials[0].emission[0] / (1 - 0.9);
+    for (const auto& l : s.leaves()) {
+      ASSERT_NEAR(l.radiosity[0], expected, 1e-3 * expected);
+    }
   }
 }
 
