@@ -1,7 +1,8 @@
 // The propagation's cache (core/solver/propagation.h): passes that keep their layout and
 // dense state between them give the same results, bit for bit, as passes that make
 // their own, after what a run changes between passes (push weights, row-sum scales,
-// radiosity), on another thread count, and when the elements change.
+// radiosity, some elements' links), on another thread count, and when the elements
+// change.
 #include "core/hierarchy/hierarchy.h"
 #include "core/parallel/lock_pool.h"
 #include "core/raycast/ray_scene.h"
@@ -16,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -129,6 +131,91 @@ TEST(PropagationCache, TheRowSumsMatrixServesOnePropagation) {
   std::size_t moved = 0;
   for (std::size_t i = 0; i < lit.size(); ++i) moved += (lit[i] != kept[i]).any() ? 1 : 0;
   EXPECT_GT(moved, lit.size() / 2) << "without links nothing is reflected";
+}
+
+// Every element's links, in order.
+std::vector<std::vector<Link>> links_of(const std::vector<Element*>& elements) {
+  std::vector<std::vector<Link>> links(elements.size());
+  for (std::size_t i = 0; i < elements.size(); ++i)
+    links[i].assign(elements[i]->links.begin(), elements[i]->links.end());
+  return links;
+}
+
+// Stores `links` as every element's links (all released first), as a refinement stage
+// leaves them.
+void store_all(Refined& r, const std::vector<std::vector<Link>>& links) {
+  r.hierarchy.release_links(r.elements);
+  for (std::size_t i = 0; i < r.elements.size(); ++i) {
+    if (links[i].empty()) continue;
+    r.hierarchy.store_links(*r.elements[i], links[i], 0);
+    r.hierarchy.compact_links(*r.elements[i], 0);
+  }
+}
+
+// After a stage that changed a few elements' links (a link's visibility, a link gone)
+// and stored the others' again in another order, the next pass over the same elements
+// gathers the changed elements' links again and keeps every other element's rows of
+// the last propagation's matrix, and gives what a fresh pass gives: bit for bit with the
+// links in their old order, and within rounding in a new one.
+TEST(PropagationCache, OnlyChangedLinksAreGatheredAgain) {
+  Refined r("builtin:cornell", 1e-3);
+  for (ClusterReceiver mode : {ClusterReceiver::Isotropic, ClusterReceiver::Cosine}) {
+    SCOPED_TRACE(mode == ClusterReceiver::Isotropic ? "isotropic" : "cosine");
+    PropagationCache cache;
+    EXPECT_EQ(push_transport(r.elements, mode, 1, &cache), 0u) << "no matrix to keep rows from";
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+
+    const std::vector<std::vector<Link>> before = links_of(r.elements);
+    std::vector<std::vector<Link>> after = before;
+    // A surface with several links and a cluster with several links.
+    std::size_t surface = after.size(), cluster = after.size();
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      if (after[i].size() < 3) continue;
+      if (r.elements[i]->is_cluster() && cluster == after.size()) cluster = i;
+      if (!r.elements[i]->is_cluster() && surface == after.size()) surface = i;
+    }
+    ASSERT_LT(surface, after.size());
+    ASSERT_LT(cluster, after.size());
+    after[surface][1].visibility *= 0.5f;
+    after[cluster].pop_back();
+
+    // The same links: every row kept.
+    store_all(r, before);
+    EXPECT_EQ(push_transport(r.elements, mode, 1, &cache), r.elements.size());
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+    const std::vector<Rgb> same = r.radiosity();
+
+    store_all(r, after);
+    EXPECT_EQ(push_transport(r.elements, mode, 1, &cache), r.elements.size() - 2);
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+    const std::vector<Rgb> kept = r.radiosity();
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode);
+    expect_same(kept, r.radiosity(), "two elements' links changed");
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < kept.size(); ++i) moved += (kept[i] != same[i]).any() ? 1 : 0;
+    EXPECT_GT(moved, 0u) << "the changed links must change the answer";
+
+    // The others stored again in reverse order: rows kept (in their old order), the
+    // sums within rounding of a fresh pass's.
+    std::vector<std::vector<Link>> reversed = after;
+    for (std::vector<Link>& l : reversed) std::reverse(l.begin(), l.end());
+    store_all(r, reversed);
+    EXPECT_EQ(push_transport(r.elements, mode, 1, &cache), r.elements.size());
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+    const std::vector<Rgb> reordered = r.radiosity();
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode);
+    const std::vector<Rgb> fresh = r.radiosity();
+    for (std::size_t i = 0; i < fresh.size(); ++i)
+      EXPECT_LE((reordered[i] - fresh[i]).abs().maxCoeff(), 1e-12 * (1 + fresh[i].abs().maxCoeff()))
+          << "element " << i;
+    store_all(r, before);
+  }
 }
 
 // A cache made for one thread count, or for other elements, is made again.

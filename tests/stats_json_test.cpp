@@ -96,6 +96,7 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"steals", Kind::Integer},
       {"open", Kind::Object},
       {"exposure", Kind::Object},
+      {"gather_rows_kept", Kind::Integer},
       {"min_area_held", Kind::Object},
       {"refiners", Kind::Array},
       {"load_s", Kind::Number},

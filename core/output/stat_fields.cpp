@@ -84,6 +84,7 @@ const std::vector<IterationField>& iteration_fields() {
       {"open/rays", "open_rays", "count", HRAD_COUNT(it.open_rays)},
       {"exposure/rays", "exposure_rays", "count", HRAD_COUNT(it.exposure_rays)},
       {"exposure/mean", "exposure_mean", "", HRAD_REAL(it.mean_exposure)},
+      {"gather_rows_kept", "gather_rows_kept", "count", HRAD_COUNT(it.gather_rows_kept)},
       {"min_area_held/links", "min_area_held_links", "count", HRAD_COUNT(it.min_area_held)},
       {"min_area_held/error_share", "min_area_held_error_share", "",
        HRAD_REAL(it.min_area_held_error)},

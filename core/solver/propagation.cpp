@@ -1,5 +1,6 @@
 #include "core/solver/propagation.h"
 
+#include "core/base/hash.h"
 #include "core/base/interrupt.h"
 #include "core/parallel/team_barrier.h"
 #include "core/transport/cluster_exposure.h"
@@ -8,7 +9,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -573,19 +576,28 @@ V channels(const Rgb& x) {
 class GatherMatrix {
  public:
   // `elements` in pass order (Layout: Element::index is the position), clusters
-  // prepared (PassState).
-  GatherMatrix(const std::vector<Element*>& elements, int threads, bool cosine)
+  // prepared (PassState). `previous`: the matrix of the last propagation over the same
+  // elements, or null; the rows of the elements whose links are those it was built
+  // from are taken from it (see reusable()), and it is left empty.
+  GatherMatrix(const std::vector<Element*>& elements, int threads, bool cosine,
+               GatherMatrix* previous = nullptr)
       : cosine_(cosine), first_row_(elements.size() + 1, 0) {
     const auto n = static_cast<std::ptrdiff_t>(elements.size());
     axis_.assign(elements.size(), 0);
+    links_hash_.assign(elements.size(), 0);
+    std::uint64_t shape = 0;  // the clusters' areas by axis, which the entries read
     // Each element read once in parallel (its line is a cache miss); the prefix sums run
     // over dense arrays: axis_ holds 1 for a cluster until then.
-#pragma omp parallel for num_threads(threads) schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : shape)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       const Element& e = *elements[static_cast<std::size_t>(i)];
       axis_[static_cast<std::size_t>(i)] = e.is_cluster() ? 1 : 0;
       first_row_[static_cast<std::size_t>(i) + 1] = rows_of(e);
+      links_hash_[static_cast<std::size_t>(i)] = hash_links(e);
+      if (e.is_cluster() && e.light)
+        shape += splitmix64_mix(hash_areas(*e.light) + static_cast<std::uint64_t>(i));
     }
+    shape_hash_ = shape;
     std::size_t slot = elements.size();
     for (std::size_t i = 0; i < elements.size(); ++i) {
       first_row_[i + 1] += first_row_[i];
@@ -595,32 +607,60 @@ class GatherMatrix {
       }
     }
     slots_ = slot;
-    link_total_.assign(elements.size(), 0.0);
-    if (cosine_) {
-      std::array<Rgb, 6> none;
-      none.fill(Rgb::Zero());
-      arriving_.assign((slots_ - first_axis_slot()) / 6, none);
+    // An element whose links are the ones `old` was built from keeps its rows and sums
+    // from there and reads no source; old's storage is taken over (fresh memory costs
+    // page faults).
+    GatherMatrix* old = previous && reusable(*previous) ? previous : nullptr;
+    if (old) {
+      link_total_ = std::move(old->link_total_);
+      arriving_ = std::move(old->arriving_);
+      chunks_ = std::move(old->chunks_);
+    } else {
+      link_total_.assign(elements.size(), 0.0);
+      if (cosine_) {
+        std::array<Rgb, 6> none;
+        none.fill(Rgb::Zero());
+        arriving_.assign((slots_ - first_axis_slot()) / 6, none);
+      }
+      chunks_.resize((elements.size() + kChunk - 1) / kChunk);
     }
+    const auto changed = [&](std::size_t i) {
+      return !old || old->links_hash_[i] != links_hash_[i];
+    };
     // One pass over the links (each reads its source's element, a cache miss): a chunk
-    // of elements collects its entries row by row in a thread's scratch lists, then
-    // keeps exact-size copies. (Counting the entries first, to fill one array, read
-    // every source twice.) The links' transport is summed on the way (transport()).
-    chunks_.resize((elements.size() + kChunk - 1) / kChunk);
+    // of elements collects its entries row by row in a thread's scratch lists (an
+    // unchanged element's rows copied), then keeps exact-size copies. (Counting the
+    // entries first, to fill one array, read every source twice.) The links' transport
+    // is summed on the way (transport()). A chunk of unchanged elements stays as it was.
     const auto chunks = static_cast<std::ptrdiff_t>(chunks_.size());
-#pragma omp parallel num_threads(threads)
+    std::size_t reused = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : reused)
     {
       std::vector<std::vector<Entry>> rows;  // scratch: one chunk's rows
 #pragma omp for schedule(dynamic, 1)
       for (std::ptrdiff_t c = 0; c < chunks; ++c) {
         const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
         const std::size_t end = std::min(begin + kChunk, elements.size());
+        std::size_t same = 0;
+        for (std::size_t i = begin; i < end; ++i) same += changed(i) ? 0 : 1;
+        reused += same;
+        if (same == end - begin) continue;
         const std::size_t first = first_row_[begin];
         const std::size_t count = first_row_[end] - first;
         if (rows.size() < count) rows.resize(count);
-        for (std::size_t r = 0; r < count; ++r) rows[r].clear();
         for (std::size_t i = begin; i < end; ++i) {
           const Element& e = *elements[i];
           std::vector<Entry>* own = rows.data() + (first_row_[i] - first);
+          if (!changed(i)) {
+            for (std::size_t k = 0; k < rows_of(e); ++k) {
+              const auto [from, to] = row(i, k);
+              own[k].assign(from, to);
+            }
+            continue;
+          }
+          for (std::size_t k = 0; k < rows_of(e); ++k) own[k].clear();
+          link_total_[i] = 0;
+          if (by_axis(e)) arriving_[(axis_[i] - first_axis_slot()) / 6].fill(Rgb::Zero());
           // The sources' lines are asked for kAhead links before they are read.
           auto ahead = e.links.begin();
           for (int a = 0; a < kAhead && ahead != e.links.end(); ++a, ++ahead)
@@ -640,12 +680,18 @@ class GatherMatrix {
         chunk.row.assign(count + 1, 0);
         for (std::size_t r = 0; r < count; ++r)
           chunk.row[r + 1] = chunk.row[r] + static_cast<std::uint32_t>(rows[r].size());
+        chunk.entries.clear();
         chunk.entries.reserve(chunk.row.back());
         for (std::size_t r = 0; r < count; ++r)
           chunk.entries.insert(chunk.entries.end(), rows[r].begin(), rows[r].end());
       }
     }
+    reused_ = reused;
+    if (previous) *previous = GatherMatrix();
   }
+
+  /// Elements whose rows were taken from the previous matrix.
+  [[nodiscard]] std::size_t reused() const { return reused_; }
 
   [[nodiscard]] std::size_t slots() const { return slots_; }
 
@@ -684,11 +730,9 @@ class GatherMatrix {
   template <class V>
   [[nodiscard]] V gather(std::size_t i, const std::vector<V>& values, std::size_t k = 0) const {
     V g = channels<V>(Rgb::Zero());
-    const Chunk& chunk = chunks_[i / kChunk];
-    const std::size_t r = first_row_[i] + k - first_row_[i / kChunk * kChunk];
-    const Entry* entry = chunk.entries.data();
-    for (std::size_t j = chunk.row[r]; j < chunk.row[r + 1]; ++j)
-      g += static_cast<double>(entry[j].weight) * values[entry[j].slot];
+    const auto [from, to] = row(i, k);
+    for (const Entry* entry = from; entry != to; ++entry)
+      g += static_cast<double>(entry->weight) * values[entry->slot];
     return g;
   }
 
@@ -724,6 +768,47 @@ class GatherMatrix {
 
   [[nodiscard]] std::size_t rows_of(const Element& e) const {
     return cosine_ && e.is_cluster() ? 6 : 1;
+  }
+
+  GatherMatrix() = default;  // empty: what a matrix whose rows were taken is left as
+
+  // Whether `old`'s rows may stand for this matrix's: built in the same mode over the
+  // same elements (the same rows and slots) with the same cluster areas, which are all
+  // the entries read besides the links and the elements' fixed geometry. Then an
+  // element's rows depend on its links alone: each link's source (its position and
+  // kind are fixed with the elements), form factor and visibility, in their order.
+  [[nodiscard]] bool reusable(const GatherMatrix& old) const {
+    return old.cosine_ == cosine_ && old.slots_ == slots_ && old.shape_hash_ == shape_hash_ &&
+           old.first_row_ == first_row_ && old.links_hash_.size() == links_hash_.size();
+  }
+
+  // A hash of e's links as a set: each one's source and the bits of its form factor and
+  // visibility, in any order. (A refinement stage stores the links it keeps again, in
+  // the order its tasks ran: with an order-dependent hash a lab run reused 16 % of the
+  // rows its last stage left unchanged, with this one all of them. A reused row keeps
+  // its old order, so the sums it gives may differ from a rebuilt row's in the last
+  // bit.)
+  static std::uint64_t hash_links(const Element& e) {
+    std::uint64_t h = 0x6A09E667F3BCC909ull;
+    for (const Link& l : e.links) {
+      std::uint64_t values = 0;
+      static_assert(sizeof(l.form_factor) + sizeof(l.visibility) == sizeof(values));
+      std::memcpy(&values, &l.form_factor, sizeof(l.form_factor));
+      std::memcpy(reinterpret_cast<char*>(&values) + sizeof(l.form_factor), &l.visibility,
+                  sizeof(l.visibility));
+      h += splitmix64_mix(splitmix64_mix(std::bit_cast<std::uintptr_t>(l.source)) ^ values);
+    }
+    return h;
+  }
+
+  // A hash of a cluster's open and exposed areas by axis.
+  static std::uint64_t hash_areas(const ClusterLight& cl) {
+    std::uint64_t h = 0xBB67AE8584CAA73Bull;
+    for (std::size_t a = 0; a < 6; ++a) {
+      h = splitmix64_mix(h ^ std::bit_cast<std::uint64_t>(cl.open_area[a]));
+      h = splitmix64_mix(h ^ std::bit_cast<std::uint64_t>(cl.exposed_area[a]));
+    }
+    return h;
   }
 
   // Calls emit(row k of e, slot, weight) for each entry of link l at receiver e.
@@ -786,16 +871,26 @@ class GatherMatrix {
     std::vector<std::uint32_t> row;  // entries of row r: entries[row[r] .. row[r + 1])
     std::vector<Entry> entries;
   };
-  static constexpr std::size_t kChunk = 1024;
+  static constexpr std::size_t kChunk = 128;
   static constexpr int kAhead = 8;
 
-  bool cosine_;
+  // Row k of the element at position i: its entries' range.
+  [[nodiscard]] std::pair<const Entry*, const Entry*> row(std::size_t i, std::size_t k) const {
+    const Chunk& chunk = chunks_[i / kChunk];
+    const std::size_t r = first_row_[i] + k - first_row_[i / kChunk * kChunk];
+    return {chunk.entries.data() + chunk.row[r], chunk.entries.data() + chunk.row[r + 1]};
+  }
+
+  bool cosine_ = false;
   std::vector<std::size_t> first_row_;  // rows of elements[i]: first_row_[i] .. first_row_[i + 1]
   std::vector<Chunk> chunks_;           // elements[i]'s rows in chunks_[i / kChunk]
   std::vector<std::uint32_t> axis_;     // per element: its first axis slot (clusters)
   std::vector<double> link_total_;      // per element: the transport of its own links
   std::vector<std::array<Rgb, 6>> arriving_;  // cosine: per cluster, the links' transport by axis
+  std::vector<std::uint64_t> links_hash_;     // per element: hash_links
+  std::uint64_t shape_hash_ = 0;              // the clusters' hash_areas, summed
   std::size_t slots_ = 0;
+  std::size_t reused_ = 0;
 };
 
 // What a propagation keeps from sweep to sweep: the layout, the pass state, the gather
@@ -804,31 +899,49 @@ class GatherMatrix {
 // another still gathers from it. run() does all the sweeps in one parallel region, the
 // team meeting at two TeamBarrier waits per sweep and at no OpenMP barrier, and hands
 // the elements their radiosity at the end.
+// A Sweeper's value arrays, kept from one propagation to the next: memory the process
+// already holds costs no page faults (on the cabin, first touches of fresh arrays took
+// about 0.1 s a propagation).
+struct SweepBuffers {
+  std::vector<Rgb> older;  // Relaxation::older
+  std::array<std::vector<Rgb>, 2> colour;
+  std::array<std::vector<double>, 2> channel0;
+};
+
 class Sweeper {
  public:
   // `matrix`: the gather matrix of these elements' links when one was built (by
-  // push_transport), else one is built here.
+  // push_transport), else one is built here. `buffers`: arrays to reuse (any sizes).
   Sweeper(PassState& state, int threads, ClusterReceiver mode, bool grey,
-          std::optional<GatherMatrix> matrix = std::nullopt)
+          std::optional<GatherMatrix> matrix = std::nullopt, SweepBuffers buffers = {})
       : layout_(state.layout()),
         state_(state),
         matrix_(matrix ? std::move(*matrix)
                        : GatherMatrix(layout_.order, threads, mode == ClusterReceiver::Cosine)),
         cosine_(mode == ClusterReceiver::Cosine),
-        grey_(grey) {
+        grey_(grey),
+        buffers_(std::move(buffers)) {
     if (grey_) {
-      init(channel0_);
+      init(buffers_.channel0);
     } else {
-      init(colour_);
+      init(buffers_.colour);
     }
+  }
+
+  /// The gather matrix, for the next build over the same elements, and the value
+  /// arrays, for the next sweeper (this one cannot sweep after either).
+  GatherMatrix release_matrix() { return std::move(matrix_); }
+  SweepBuffers release_buffers() {
+    relax_.older = nullptr;
+    return std::move(buffers_);
   }
 
   /// The leaves' relaxation factor from the next sweep on (Relaxation); the first call
   /// starts keeping each leaf's previous radiosity. Called from after_sweep.
   void relax(double omega) {
     if (!relax_.older) {
-      older_.assign(state_.size(), Rgb::Zero());
-      relax_.older = &older_;
+      buffers_.older.assign(state_.size(), Rgb::Zero());
+      relax_.older = &buffers_.older;
     }
     relax_.omega = omega;
   }
@@ -841,9 +954,9 @@ class Sweeper {
   template <class After>
   void run(const After& after_sweep) {
     if (grey_) {
-      run_with(channel0_, after_sweep);
+      run_with(buffers_.channel0, after_sweep);
     } else {
-      run_with(colour_, after_sweep);
+      run_with(buffers_.colour, after_sweep);
     }
     state_.write_back(layout_.parts);
   }
@@ -908,10 +1021,8 @@ class Sweeper {
   GatherMatrix matrix_;
   bool cosine_;
   bool grey_;
-  std::vector<Rgb> older_;  // Relaxation::older
   Relaxation relax_;
-  std::array<std::vector<Rgb>, 2> colour_;
-  std::array<std::vector<double>, 2> channel0_;
+  SweepBuffers buffers_;
 };
 
 // How far an accelerated change may rise over the smallest before the acceleration is
@@ -953,13 +1064,28 @@ struct PropagationCache::Impl {
   /// The gather matrix push_transport built, for the propagation that follows it (the
   /// links have not changed in between); that propagation takes it.
   std::optional<GatherMatrix> matrix;
+  /// The last propagation's matrix, kept while the elements stay the same: the next
+  /// build takes the rows of the elements whose links have not changed from it (a
+  /// refinement stage after the first changes the links of few elements).
+  std::optional<GatherMatrix> previous;
+  /// The last propagation's value arrays.
+  SweepBuffers buffers;
 
-  // The matrix push_transport left, if it is for this mode; it is gone afterwards.
-  std::optional<GatherMatrix> take_matrix(ClusterReceiver mode) {
-    std::optional<GatherMatrix> m;
-    if (matrix && matrix->cosine() == (mode == ClusterReceiver::Cosine)) m = std::move(matrix);
-    matrix.reset();
+  // A gather matrix of `order` built with what `previous` holds, which is gone afterwards.
+  GatherMatrix build(const std::vector<Element*>& order, int threads, bool cosine) {
+    GatherMatrix m(order, threads, cosine, previous ? &*previous : nullptr);
+    previous.reset();
     return m;
+  }
+
+  // The matrix push_transport left if it is for this mode, else one built now; either
+  // way none is left.
+  GatherMatrix take_matrix(const std::vector<Element*>& order, int threads, ClusterReceiver mode) {
+    const bool cosine = mode == ClusterReceiver::Cosine;
+    std::optional<GatherMatrix> m;
+    if (matrix && matrix->cosine() == cosine) m = std::move(matrix);
+    matrix.reset();
+    return m ? std::move(*m) : build(order, threads, cosine);
   }
 
   PassState& prepare(const std::vector<Element*>& list, int threads) {
@@ -968,6 +1094,7 @@ struct PropagationCache::Impl {
       return *state;
     }
     matrix.reset();
+    previous.reset();
     state.reset();
     layout.reset();
     elements.clear();
@@ -981,8 +1108,8 @@ struct PropagationCache::Impl {
 PropagationCache::PropagationCache() : impl_(std::make_unique<Impl>()) {}
 PropagationCache::~PropagationCache() = default;
 
-void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
-                    PropagationCache* cache) {
+std::size_t push_transport(const std::vector<Element*>& elements, ClusterReceiver mode, int threads,
+                           PropagationCache* cache) {
   const bool cosine = mode == ClusterReceiver::Cosine;
   PropagationCache own;
   PropagationCache::Impl& c = *(cache ? *cache : own).impl_;
@@ -990,7 +1117,7 @@ void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode,
   const Layout& l = s.layout();
   // The propagation that follows gathers over the same matrix: it is built here, and
   // the pass reads the links' transport from the sums it makes on the way.
-  const GatherMatrix& m = c.matrix.emplace(l.order, threads, cosine);
+  const GatherMatrix& m = c.matrix.emplace(c.build(l.order, threads, cosine));
   std::vector<SweepChange> per_part(static_cast<std::size_t>(l.parts) + 1);
   const auto gather = [&](std::size_t i) { s.gathered(i) = m.transport(i, *l.order[i]); };
   const auto none = [](std::size_t) {};
@@ -1000,6 +1127,7 @@ void push_transport(const std::vector<Element*>& elements, ClusterReceiver mode,
     parts(s, cosine, false, Relaxation{}, gather, none, me, team, per_part);
   });
   s.write_back(l.parts);
+  return m.reused();
 }
 
 double propagation_sweep(const std::vector<Element*>& elements, int threads, ClusterReceiver mode,
@@ -1023,7 +1151,9 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
   PropagationCache own;
   PropagationCache::Impl& c = *(cache ? *cache : own).impl_;
   PassState& state = c.prepare(elements, threads);
-  Sweeper sweeper(state, threads, mode, grey, c.take_matrix(mode));  // links do not change here
+  // The links do not change here.
+  Sweeper sweeper(state, threads, mode, grey, c.take_matrix(state.layout().order, threads, mode),
+                  std::move(c.buffers));
   double previous = 0, previous_change = 0, previous_q = 0;
   int growing = 0;
   // Chebyshev acceleration over [-a, a], a the plain sweeps' contraction (given, or
@@ -1108,6 +1238,8 @@ PropagationResult propagate(const std::vector<Element*>& elements, double tolera
     previous_change = s.change;
     return r.sweeps < max_sweeps && !interrupted();
   });
+  c.previous = sweeper.release_matrix();
+  c.buffers = sweeper.release_buffers();
   return r;
 }
 

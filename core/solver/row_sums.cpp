@@ -61,7 +61,7 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
   // area as the links give it (channel 0) and per unit of open area as the propagation
   // gathers (channel 1; the same when nothing is closed in). `next` is scratch here
   // (propagation overwrites it).
-  push_transport(elements, receiver, threads, cache);
+  st.rows_kept = push_transport(elements, receiver, threads, cache);
   std::vector<Element*> leaves;
   double area = 0;
   st.min = std::numeric_limits<double>::infinity();

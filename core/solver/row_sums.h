@@ -47,6 +47,8 @@ struct RowSumStats {
   /// Leaves whose open-area gain was capped (see apply_row_sums), in every mode.
   std::uint64_t open_capped = 0;
   std::uint64_t rays_cast = 0;  ///< escape rays cast by this call
+  /// Elements whose gather rows were kept from the last propagation (push_transport).
+  std::uint64_t rows_kept = 0;
 };
 
 /// Sets every element's gather_scale (parents before children in `elements`).

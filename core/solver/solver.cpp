@@ -509,6 +509,7 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   is.row_sum_mean = rs.area_mean;
   is.row_sum_within_band = rs.within_band;
   is.row_sum_corrected = rs.corrected;
+  is.gather_rows_kept = rs.rows_kept;
   if (geometric_row_sums) push_weights.apply(false);
   return elements;
 }
