@@ -526,6 +526,17 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
       << r.err;
   EXPECT_TRUE(contains(r.err, "above the limit of 0.02 GB")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "mem"));
+  // A limit under a byte read as 0 (three quarters of the machine's memory) and the run
+  // went on; one past 1e9 GB overflowed the byte count.
+  r = hrad("solve builtin:cornell --set max_memory_gb=1e-12 --out mem");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "above the limit of 1e-09 GB")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "mem"));
+  r = hrad("solve builtin:cornell --set max_memory_gb=1e30 --out mem");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "max_memory_gb")) << r.err;
+  EXPECT_TRUE(contains(r.err, "between 0 and 1e9")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "mem"));
 
   // image_width at its maximum took 11.8 GB while rendering, after the whole solve: now
   // refused before the scene is loaded when it would not fit under max_memory_gb.

@@ -519,8 +519,8 @@ void validate_ranges(const SolverOptions& o) {
         "gather_tolerance", str(o.gather_tolerance), "a number > 0 and <= 1");
   check(o.max_gather_sweeps >= 1 && o.max_gather_sweeps <= kMaxGatherSweeps, "max_gather_sweeps",
         str(o.max_gather_sweeps), fmt::format("between 1 and {}", kMaxGatherSweeps));
-  check(std::isfinite(o.max_memory_gb) && o.max_memory_gb >= 0, "max_memory_gb",
-        str(o.max_memory_gb), "a finite number >= 0");
+  check(std::isfinite(o.max_memory_gb) && o.max_memory_gb >= 0 && o.max_memory_gb <= 1e9,
+        "max_memory_gb", str(o.max_memory_gb), "a number of GB between 0 and 1e9");
   check(o.row_sum_rays >= 1 && o.row_sum_rays <= kMaxRowSumRays, "row_sum_rays",
         str(o.row_sum_rays), fmt::format("between 1 and {}", kMaxRowSumRays));
   check(o.locks_pool >= 0 && o.locks_pool <= kMaxLocksPool, "locks_pool", str(o.locks_pool),

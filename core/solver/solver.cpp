@@ -214,7 +214,9 @@ struct Solver::Impl {
 };
 
 std::uint64_t memory_limit_bytes(double gb) {
-  if (gb > 0) return static_cast<std::uint64_t>(gb * 1e9);
+  // A positive limit stays one (below a byte it read as 0, no limit, and the run went
+  // on under three quarters of the machine's memory).
+  if (gb > 0) return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(gb * 1e9));
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return 0;
   return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 4 * 3;
