@@ -142,7 +142,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
     print_error(parse_error_text(e.what(), ctx.argv));
-    return e.get_exit_code();
+    // A value out of range or not a number is bad input, as hrad's own checks say it
+    // (status 1: `reference --threads 0` gave 105 where `solve --threads 0` gave 1);
+    // CLI11's codes are kept for the command line's syntax (109: an unexpected argument).
+    const int code = e.get_exit_code();
+    if (code == static_cast<int>(CLI::ExitCodes::ValidationError) ||
+        code == static_cast<int>(CLI::ExitCodes::ConversionError))
+      return 1;
+    return code;
   }
   return ctx.status;
 }

@@ -146,6 +146,20 @@ TEST_F(Cli, BadOptionsAreNamedAndCreateNoFolder) {
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "bad.json") && contains(r.err, "'thread'")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "run"));
+  // A flag's value that the command line's own checks refuse is bad input too: status
+  // 1 as above (it was CLI11's 105 or 104), in every command; a syntax error keeps
+  // CLI11's code (109: an unexpected argument).
+  r = hrad("reference builtin:cornell --threads 0 --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "--threads")) << r.err;
+  r = hrad("reference builtin:cornell --seed nan --out run");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "--seed")) << r.err;
+  r = hrad("compare a.csv b.csv --floor -1");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "--floor")) << r.err;
+  EXPECT_EQ(hrad("solve builtin:cornell extra --out run").status, 109);
+  EXPECT_FALSE(fs::exists(dir_ / "run"));
 }
 
 TEST_F(Cli, SolveWritesStatsMeshAndImage) {
