@@ -92,7 +92,9 @@ TEST(ExperimentConfig, BadTypesAreErrors) {
   EXPECT_NE(with("name", "a/b").find("folder name"), std::string::npos);
   EXPECT_NE(with("scenes", "builtin:cornell").find("list of scene specs"), std::string::npos);
   EXPECT_NE(with("repetitions", 2.5).find("'repetitions' must be an integer"), std::string::npos);
-  EXPECT_NE(with("repetitions", 0).find("'repetitions' must be an integer >= 1"),
+  EXPECT_NE(with("repetitions", 0).find("'repetitions' must be an integer between 1 and 1000000"),
+            std::string::npos);
+  EXPECT_NE(with("repetitions", 1000001).find("between 1 and 1000000, got 1000001"),
             std::string::npos);
   EXPECT_NE(with("settings", ojson::array()).find("'settings' must be an object"),
             std::string::npos);
@@ -201,6 +203,9 @@ TEST(ExperimentConfig, SetOverrides) {
   EXPECT_NE(error("threads=0").find("out of range"), std::string::npos);
   EXPECT_NE(error("scheduler=lifo").find("unknown scheduler"), std::string::npos);
   EXPECT_NE(error("repetitions=0").find("repetitions"), std::string::npos);
+  // Past the configuration file's bound (it had none here: 2e9 repetitions were taken).
+  EXPECT_NE(error("repetitions=2000000000").find("between 1 and 1000000"), std::string::npos);
+  EXPECT_NE(error("repetitions=4294967297").find("between 1 and 1000000"), std::string::npos);
   EXPECT_NE(error("sweep.threads=").find("at least one value"), std::string::npos);
   EXPECT_NE(error("novalue").find("expected key=value"), std::string::npos);
 }

@@ -55,9 +55,14 @@ std::string get_string(const ojson& j, const std::string& key, const std::string
   return j.get<std::string>();
 }
 
+// The most runs of a point (a million runs of the smallest scene take hours).
+constexpr std::int64_t kMaxRepetitions = 1000000;
+
 int get_count(const ojson& j, const std::string& key, const std::string& source) {
-  if (!j.is_number_integer() || j.get<std::int64_t>() < 1 || j.get<std::int64_t>() > 1000000)
-    fail(source, fmt::format("'{}' must be an integer >= 1, got {}", key, brief_json(j)));
+  if (!j.is_number_integer() || j.get<std::int64_t>() < 1 ||
+      j.get<std::int64_t>() > kMaxRepetitions)
+    fail(source, fmt::format("'{}' must be an integer between 1 and {}, got {}", key,
+                             kMaxRepetitions, brief_json(j)));
   return j.get<int>();
 }
 
@@ -355,16 +360,18 @@ void apply_experiment_set(ExperimentConfig& config, const std::string& key_eq_va
   const std::string key = key_eq_value.substr(0, eq);
   const std::string value = key_eq_value.substr(eq + 1);
   if (key == "repetitions") {
-    int n = 0;
+    long long n = 0;
     try {
       std::size_t used = 0;
-      n = std::stoi(value, &used);
+      n = std::stoll(value, &used);
       if (used != value.size()) n = 0;
     } catch (const std::exception&) {
       n = 0;
     }
-    if (n < 1) throw std::invalid_argument(source + ": repetitions must be an integer >= 1");
-    config.repetitions = n;
+    if (n < 1 || n > kMaxRepetitions)
+      throw std::invalid_argument(fmt::format("{}: repetitions must be an integer between 1 and {}",
+                                              source, kMaxRepetitions));
+    config.repetitions = static_cast<int>(n);
     return;
   }
   if (key == "scenes") {
