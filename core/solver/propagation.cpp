@@ -572,7 +572,9 @@ V channels(const Rgb& x) {
 // propagation, so the matrix is built once per propagation, and each sweep's gather
 // streams over it and a small dense array of values instead of reading every link's
 // source element (456 bytes apart; for a cluster its ClusterLight too). Weights are
-// floats, like the links' form factor and visibility they come from.
+// floats, like the links' form factor and visibility they come from. The next
+// iteration's build over the same elements keeps the rows of the elements whose links
+// did not change (PropagationCache).
 class GatherMatrix {
  public:
   // `elements` in pass order (Layout: Element::index is the position), clusters
@@ -775,8 +777,8 @@ class GatherMatrix {
   // Whether `old`'s rows may stand for this matrix's: built in the same mode over the
   // same elements (the same rows and slots) with the same cluster areas, which are all
   // the entries read besides the links and the elements' fixed geometry. Then an
-  // element's rows depend on its links alone: each link's source (its position and
-  // kind are fixed with the elements), form factor and visibility, in their order.
+  // element's rows depend on its links alone (hash_links): each link's source (its
+  // position and kind are fixed with the elements), form factor and visibility.
   [[nodiscard]] bool reusable(const GatherMatrix& old) const {
     return old.cosine_ == cosine_ && old.slots_ == slots_ && old.shape_hash_ == shape_hash_ &&
            old.first_row_ == first_row_ && old.links_hash_.size() == links_hash_.size();
@@ -893,12 +895,6 @@ class GatherMatrix {
   std::size_t reused_ = 0;
 };
 
-// What a propagation keeps from sweep to sweep: the layout, the pass state, the gather
-// matrix and its values (one channel in a grey scene), twice: a sweep gathers from the
-// last sweep's and stores into the other, since one thread may finish an element while
-// another still gathers from it. run() does all the sweeps in one parallel region, the
-// team meeting at two TeamBarrier waits per sweep and at no OpenMP barrier, and hands
-// the elements their radiosity at the end.
 // A Sweeper's value arrays, kept from one propagation to the next: memory the process
 // already holds costs no page faults (on the cabin, first touches of fresh arrays took
 // about 0.1 s a propagation).
@@ -908,6 +904,12 @@ struct SweepBuffers {
   std::array<std::vector<double>, 2> channel0;
 };
 
+// What a propagation keeps from sweep to sweep: the layout, the pass state, the gather
+// matrix and its values (one channel in a grey scene), twice: a sweep gathers from the
+// last sweep's and stores into the other, since one thread may finish an element while
+// another still gathers from it. run() does all the sweeps in one parallel region, the
+// team meeting at two TeamBarrier waits per sweep and at no OpenMP barrier, and hands
+// the elements their radiosity at the end.
 class Sweeper {
  public:
   // `matrix`: the gather matrix of these elements' links when one was built (by
