@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <set>
 #include <vector>
 
 namespace hrad {
@@ -215,6 +216,59 @@ TEST(PropagationCache, OnlyChangedLinksAreGatheredAgain) {
       EXPECT_LE((reordered[i] - fresh[i]).abs().maxCoeff(), 1e-12 * (1 + fresh[i].abs().maxCoeff()))
           << "element " << i;
     store_all(r, before);
+  }
+}
+
+// After a stage that split some leaves (new elements, so new positions and slots; the
+// split leaves' ancestors' open areas change), the next pass keeps the rows of the
+// elements whose links and whose sources' areas are unchanged, renumbered, and gives
+// what a fresh pass gives, bit for bit (no link was stored again).
+TEST(PropagationCache, RowsAreRenumberedWhenElementsAreAdded) {
+  for (ClusterReceiver mode : {ClusterReceiver::Isotropic, ClusterReceiver::Cosine}) {
+    SCOPED_TRACE(mode == ClusterReceiver::Isotropic ? "isotropic" : "cosine");
+    Refined r("builtin:cornell", 1e-3);
+    PropagationCache cache;
+    push_transport(r.elements, mode, 1, &cache);
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+
+    // Leaves under a cluster that some link comes from.
+    std::set<const Element*> sources;
+    for (const Element* e : r.elements)
+      for (const Link& l : e->links)
+        if (l.source->is_cluster()) sources.insert(l.source);
+    const auto under_source = [&](const Element& e) {
+      for (const Element* a = e.parent; a != nullptr; a = a->parent)
+        if (sources.count(a) != 0) return true;
+      return false;
+    };
+    LockPool locks(2, 1);
+    std::vector<Element*> split;
+    for (Element* e : r.elements)
+      if (split.size() < 8 && !e->is_cluster() && e->child_span().empty() && !e->links.empty() &&
+          under_source(*e) && Hierarchy::can_subdivide(*e) &&
+          !r.hierarchy.subdivide(*e, 0, locks).empty())
+        split.push_back(e);
+    ASSERT_EQ(split.size(), 8u);
+    const std::size_t before = r.elements.size();
+    r.elements = r.hierarchy.elements();
+    ASSERT_GT(r.elements.size(), before);
+    update_open_fractions(r.elements, r.hierarchy, r.rays, 1, 1, true);
+    // A piece of one split leaf closed in (as a contact would): its ancestors' open
+    // areas change, and so do the entries of every link from their clusters.
+    split.front()->child_span().front().open = 0;
+    update_open_fractions(r.elements, r.hierarchy, r.rays, 1, 1, true);
+    update_push_weights(r.elements, r.transport, 1);
+
+    const std::size_t kept = push_transport(r.elements, mode, 1, &cache);
+    EXPECT_GT(kept, before / 2);
+    EXPECT_LT(kept, before) << "the split leaves' clusters' rows must be made again";
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+    const std::vector<Rgb> renumbered = r.radiosity();
+    r.restart();
+    propagate(r.elements, 1e-6, 100, 1, mode);
+    expect_same(renumbered, r.radiosity(), "elements added");
   }
 }
 

@@ -100,7 +100,8 @@ struct IterationStats {
   double row_sum_within_band = 0;       ///< open-area share within 1 +- kRowSumBand
   std::uint64_t row_sum_corrected = 0;  ///< leaves whose gathered irradiance was rescaled
   /// Elements whose rows of the propagation's gather matrix were kept from the last
-  /// iteration's (their links unchanged; core/solver/propagation.h).
+  /// iteration's (their links and their sources' areas unchanged;
+  /// core/solver/propagation.h).
   std::uint64_t gather_rows_kept = 0;
   /// Open fractions (core/transport/open_fraction.h): rays cast for them this iteration (also in
   /// rays_cast) and the open share of the leaves' area (1 - closed in by contacts).

@@ -573,122 +573,34 @@ V channels(const Rgb& x) {
 // streams over it and a small dense array of values instead of reading every link's
 // source element (456 bytes apart; for a cluster its ClusterLight too). Weights are
 // floats, like the links' form factor and visibility they come from. The next
-// iteration's build over the same elements keeps the rows of the elements whose links
-// did not change (PropagationCache).
+// iteration's build keeps the rows of the elements whose links did not change
+// (GatherMatrix::Reuse, PropagationCache).
 class GatherMatrix {
  public:
   // `elements` in pass order (Layout: Element::index is the position), clusters
-  // prepared (PassState). `previous`: the matrix of the last propagation over the same
-  // elements, or null; the rows of the elements whose links are those it was built
-  // from are taken from it (see reusable()), and it is left empty.
+  // prepared (PassState). `previous`: the last propagation's matrix, or null; the
+  // elements whose links are those it was built from keep their rows (Reuse), and it is
+  // left empty.
   GatherMatrix(const std::vector<Element*>& elements, int threads, bool cosine,
                GatherMatrix* previous = nullptr)
       : cosine_(cosine), first_row_(elements.size() + 1, 0) {
-    const auto n = static_cast<std::ptrdiff_t>(elements.size());
-    axis_.assign(elements.size(), 0);
-    links_hash_.assign(elements.size(), 0);
-    std::uint64_t shape = 0;  // the clusters' areas by axis, which the entries read
-    // Each element read once in parallel (its line is a cache miss); the prefix sums run
-    // over dense arrays: axis_ holds 1 for a cluster until then.
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(+ : shape)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-      const Element& e = *elements[static_cast<std::size_t>(i)];
-      axis_[static_cast<std::size_t>(i)] = e.is_cluster() ? 1 : 0;
-      first_row_[static_cast<std::size_t>(i) + 1] = rows_of(e);
-      links_hash_[static_cast<std::size_t>(i)] = hash_links(e);
-      if (e.is_cluster() && e.light)
-        shape += splitmix64_mix(hash_areas(*e.light) + static_cast<std::uint64_t>(i));
-    }
-    shape_hash_ = shape;
-    std::size_t slot = elements.size();
-    for (std::size_t i = 0; i < elements.size(); ++i) {
-      first_row_[i + 1] += first_row_[i];
-      if (axis_[i] != 0) {
-        axis_[i] = static_cast<std::uint32_t>(slot);
-        slot += 6;
-      }
-    }
-    slots_ = slot;
-    // An element whose links are the ones `old` was built from keeps its rows and sums
-    // from there and reads no source; old's storage is taken over (fresh memory costs
-    // page faults).
-    GatherMatrix* old = previous && reusable(*previous) ? previous : nullptr;
-    if (old) {
-      link_total_ = std::move(old->link_total_);
-      arriving_ = std::move(old->arriving_);
-      chunks_ = std::move(old->chunks_);
-    } else {
-      link_total_.assign(elements.size(), 0.0);
-      if (cosine_) {
-        std::array<Rgb, 6> none;
-        none.fill(Rgb::Zero());
-        arriving_.assign((slots_ - first_axis_slot()) / 6, none);
-      }
-      chunks_.resize((elements.size() + kChunk - 1) / kChunk);
-    }
-    const auto changed = [&](std::size_t i) {
-      return !old || old->links_hash_[i] != links_hash_[i];
-    };
+    measure(elements, threads);
+    const Reuse reuse = plan_reuse(previous);
     // One pass over the links (each reads its source's element, a cache miss): a chunk
-    // of elements collects its entries row by row in a thread's scratch lists (an
-    // unchanged element's rows copied), then keeps exact-size copies. (Counting the
-    // entries first, to fill one array, read every source twice.) The links' transport
-    // is summed on the way (transport()). A chunk of unchanged elements stays as it was.
+    // of elements collects its entries row by row in a thread's scratch lists (a kept
+    // element's rows copied), then keeps exact-size copies. (Counting the entries first,
+    // to fill one array, read every source twice.) The links' transport is summed on the
+    // way (transport()).
     const auto chunks = static_cast<std::ptrdiff_t>(chunks_.size());
-    std::size_t reused = 0;
-#pragma omp parallel num_threads(threads) reduction(+ : reused)
+    std::size_t kept = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : kept)
     {
       std::vector<std::vector<Entry>> rows;  // scratch: one chunk's rows
 #pragma omp for schedule(dynamic, 1)
-      for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-        const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
-        const std::size_t end = std::min(begin + kChunk, elements.size());
-        std::size_t same = 0;
-        for (std::size_t i = begin; i < end; ++i) same += changed(i) ? 0 : 1;
-        reused += same;
-        if (same == end - begin) continue;
-        const std::size_t first = first_row_[begin];
-        const std::size_t count = first_row_[end] - first;
-        if (rows.size() < count) rows.resize(count);
-        for (std::size_t i = begin; i < end; ++i) {
-          const Element& e = *elements[i];
-          std::vector<Entry>* own = rows.data() + (first_row_[i] - first);
-          if (!changed(i)) {
-            for (std::size_t k = 0; k < rows_of(e); ++k) {
-              const auto [from, to] = row(i, k);
-              own[k].assign(from, to);
-            }
-            continue;
-          }
-          for (std::size_t k = 0; k < rows_of(e); ++k) own[k].clear();
-          link_total_[i] = 0;
-          if (by_axis(e)) arriving_[(axis_[i] - first_axis_slot()) / 6].fill(Rgb::Zero());
-          // The sources' lines are asked for kAhead links before they are read.
-          auto ahead = e.links.begin();
-          for (int a = 0; a < kAhead && ahead != e.links.end(); ++a, ++ahead)
-            __builtin_prefetch(ahead->source);
-          for (const Link& l : e.links) {
-            if (ahead != e.links.end()) {
-              __builtin_prefetch(ahead->source);
-              ++ahead;
-            }
-            add_transport(e, l, i);
-            entries(e, l, [&](std::size_t k, std::uint32_t slot_of, double w) {
-              own[k].push_back(Entry{slot_of, static_cast<float>(w)});
-            });
-          }
-        }
-        Chunk& chunk = chunks_[static_cast<std::size_t>(c)];
-        chunk.row.assign(count + 1, 0);
-        for (std::size_t r = 0; r < count; ++r)
-          chunk.row[r + 1] = chunk.row[r] + static_cast<std::uint32_t>(rows[r].size());
-        chunk.entries.clear();
-        chunk.entries.reserve(chunk.row.back());
-        for (std::size_t r = 0; r < count; ++r)
-          chunk.entries.insert(chunk.entries.end(), rows[r].begin(), rows[r].end());
-      }
+      for (std::ptrdiff_t c = 0; c < chunks; ++c)
+        kept += fill_chunk(static_cast<std::size_t>(c), elements, reuse, rows);
     }
-    reused_ = reused;
+    reused_ = kept;
     if (previous) *previous = GatherMatrix();
   }
 
@@ -774,14 +686,182 @@ class GatherMatrix {
 
   GatherMatrix() = default;  // empty: what a matrix whose rows were taken is left as
 
-  // Whether `old`'s rows may stand for this matrix's: built in the same mode over the
-  // same elements (the same rows and slots) with the same cluster areas, which are all
-  // the entries read besides the links and the elements' fixed geometry. Then an
-  // element's rows depend on its links alone (hash_links): each link's source (its
-  // position and kind are fixed with the elements), form factor and visibility.
-  [[nodiscard]] bool reusable(const GatherMatrix& old) const {
-    return old.cosine_ == cosine_ && old.slots_ == slots_ && old.shape_hash_ == shape_hash_ &&
-           old.first_row_ == first_row_ && old.links_hash_.size() == links_hash_.size();
+  struct Entry {
+    std::uint32_t slot;  // of the value it weighs
+    float weight;
+  };
+  // The rows of kChunk consecutive elements, the chunk's first row being its row 0.
+  struct Chunk {
+    std::vector<std::uint32_t> row;  // entries of row r: entries[row[r] .. row[r + 1])
+    std::vector<Entry> entries;
+  };
+  static constexpr std::size_t kChunk = 128;
+  static constexpr int kAhead = 8;
+
+  // How rows come from the last matrix `old`: not at all (null); in place, for the
+  // same elements with the same cluster areas (old's storage taken over, a chunk whose
+  // elements all keep their rows left as it is); or moved, when elements were added
+  // (a kept row's slots renumbered). An element keeps its rows when its links are the
+  // ones old was built from (hash_links) and nothing else its entries read changed: the
+  // areas by axis of the clusters among its sources, and of itself as a cosine cluster
+  // receiver (hash_areas; a leaf split in two changes its ancestors' open areas).
+  // Besides, the entries read only the elements' fixed geometry and kind.
+  struct Reuse {
+    GatherMatrix* old = nullptr;
+    bool in_place = false;
+    std::vector<std::uint32_t> old_of;   // moved: position -> old position (kNone: new)
+    std::vector<std::uint32_t> slot_of;  // moved: old slot -> slot (kNone: areas changed)
+  };
+  static constexpr std::uint32_t kNone = PassState::kNone;
+
+  // Rows, slots, links' and clusters' hashes of `elements` (read once, in parallel; the
+  // prefix sums run over dense arrays: axis_ holds 1 for a cluster until then).
+  void measure(const std::vector<Element*>& elements, int threads) {
+    const auto n = static_cast<std::ptrdiff_t>(elements.size());
+    order_.assign(elements.begin(), elements.end());
+    axis_.assign(elements.size(), 0);
+    links_hash_.assign(elements.size(), 0);
+    area_hash_.assign(elements.size(), 0);
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      const Element& e = *elements[u];
+      axis_[u] = e.is_cluster() ? 1 : 0;
+      first_row_[u + 1] = rows_of(e);
+      links_hash_[u] = hash_links(e);
+      if (e.is_cluster() && e.light) area_hash_[u] = hash_areas(*e.light);
+    }
+    std::size_t slot = elements.size();
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      first_row_[i + 1] += first_row_[i];
+      if (axis_[i] != 0) {
+        axis_[i] = static_cast<std::uint32_t>(slot);
+        slot += 6;
+      }
+    }
+    slots_ = slot;
+  }
+
+  // How this build keeps rows of `previous` (Reuse), with the sums' and chunks' storage
+  // made (in place: taken over from previous; fresh memory costs page faults).
+  Reuse plan_reuse(GatherMatrix* previous) {
+    Reuse r;
+    if (previous && previous->cosine_ == cosine_ && !previous->order_.empty()) r.old = previous;
+    if (r.old && r.old->order_ == order_ && r.old->area_hash_ == area_hash_) {
+      r.in_place = true;
+      link_total_ = std::move(r.old->link_total_);
+      arriving_ = std::move(r.old->arriving_);
+      chunks_ = std::move(r.old->chunks_);
+      return r;
+    }
+    link_total_.assign(order_.size(), 0.0);
+    if (cosine_) {
+      std::array<Rgb, 6> none;
+      none.fill(Rgb::Zero());
+      arriving_.assign((slots_ - first_axis_slot()) / 6, none);
+    }
+    chunks_.resize((order_.size() + kChunk - 1) / kChunk);
+    if (!r.old) return r;
+    const GatherMatrix& o = *r.old;
+    r.old_of.assign(order_.size(), kNone);
+    r.slot_of.assign(o.slots_, kNone);
+    for (std::size_t p = 0; p < o.order_.size(); ++p) {
+      const std::uint32_t u = o.order_[p]->index;  // its position now
+      if (u >= order_.size() || order_[u] != o.order_[p]) continue;
+      r.old_of[u] = static_cast<std::uint32_t>(p);
+      const bool cluster = o.axis_[p] != 0;
+      if (cluster && o.area_hash_[p] != area_hash_[u]) continue;
+      r.slot_of[p] = u;
+      for (std::uint32_t k = 0; cluster && k < 6; ++k) r.slot_of[o.axis_[p] + k] = axis_[u] + k;
+    }
+    return r;
+  }
+
+  // The rows of chunk c (its elements' entries and sums); returns the elements that kept
+  // theirs. `rows`: the calling thread's scratch.
+  std::size_t fill_chunk(std::size_t c, const std::vector<Element*>& elements, const Reuse& reuse,
+                         std::vector<std::vector<Entry>>& rows) {
+    const std::size_t begin = c * kChunk;
+    const std::size_t end = std::min(begin + kChunk, elements.size());
+    if (reuse.in_place) {
+      std::size_t same = 0;
+      for (std::size_t i = begin; i < end; ++i)
+        same += reuse.old->links_hash_[i] == links_hash_[i] ? 1 : 0;
+      if (same == end - begin) return same;  // the chunk as it was
+    }
+    const std::size_t first = first_row_[begin];
+    const std::size_t count = first_row_[end] - first;
+    if (rows.size() < count) rows.resize(count);
+    std::size_t kept = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const Element& e = *elements[i];
+      std::vector<Entry>* own = rows.data() + (first_row_[i] - first);
+      if (keep_rows(reuse, i, e, own)) {
+        ++kept;
+        continue;
+      }
+      for (std::size_t k = 0; k < rows_of(e); ++k) own[k].clear();
+      link_total_[i] = 0;
+      if (by_axis(e)) arriving_[(axis_[i] - first_axis_slot()) / 6].fill(Rgb::Zero());
+      // The sources' lines are asked for kAhead links before they are read.
+      auto ahead = e.links.begin();
+      for (int a = 0; a < kAhead && ahead != e.links.end(); ++a, ++ahead)
+        __builtin_prefetch(ahead->source);
+      for (const Link& l : e.links) {
+        if (ahead != e.links.end()) {
+          __builtin_prefetch(ahead->source);
+          ++ahead;
+        }
+        add_transport(e, l, i);
+        entries(e, l, [&](std::size_t k, std::uint32_t slot_of, double w) {
+          own[k].push_back(Entry{slot_of, static_cast<float>(w)});
+        });
+      }
+    }
+    Chunk& chunk = chunks_[c];
+    chunk.row.assign(count + 1, 0);
+    for (std::size_t r = 0; r < count; ++r)
+      chunk.row[r + 1] = chunk.row[r] + static_cast<std::uint32_t>(rows[r].size());
+    chunk.entries.clear();
+    chunk.entries.reserve(chunk.row.back());
+    for (std::size_t r = 0; r < count; ++r)
+      chunk.entries.insert(chunk.entries.end(), rows[r].begin(), rows[r].end());
+    return kept;
+  }
+
+  // Whether the element e at position i keeps its rows and sums from reuse.old (see
+  // Reuse); if so its rows are written into own[0..rows) and its sums set.
+  bool keep_rows(const Reuse& reuse, std::size_t i, const Element& e, std::vector<Entry>* own) {
+    if (!reuse.old) return false;
+    const std::size_t rows = rows_of(e);
+    if (reuse.in_place) {  // its rows and sums are in this matrix's storage already
+      if (reuse.old->links_hash_[i] != links_hash_[i]) return false;
+      for (std::size_t k = 0; k < rows; ++k) {
+        const auto [from, to] = row(i, k);
+        own[k].assign(from, to);
+      }
+      return true;
+    }
+    const GatherMatrix& o = *reuse.old;
+    const std::uint32_t p = reuse.old_of[i];
+    if (p == kNone || o.links_hash_[p] != links_hash_[i]) return false;
+    if (by_axis(e) && o.area_hash_[p] != area_hash_[i]) return false;
+    for (std::size_t k = 0; k < rows; ++k) {
+      const auto [from, to] = o.row(p, k);
+      for (const Entry* x = from; x != to; ++x)
+        if (reuse.slot_of[x->slot] == kNone) return false;
+    }
+    for (std::size_t k = 0; k < rows; ++k) {
+      const auto [from, to] = o.row(p, k);
+      own[k].clear();
+      for (const Entry* x = from; x != to; ++x)
+        own[k].push_back(Entry{reuse.slot_of[x->slot], x->weight});
+    }
+    link_total_[i] = o.link_total_[p];
+    if (by_axis(e))
+      arriving_[(axis_[i] - first_axis_slot()) / 6] =
+          o.arriving_[(o.axis_[p] - o.first_axis_slot()) / 6];
+    return true;
   }
 
   // A hash of e's links as a set: each one's source and the bits of its form factor and
@@ -864,18 +944,6 @@ class GatherMatrix {
   // The first axis slot: one past the elements' own.
   [[nodiscard]] std::size_t first_axis_slot() const { return first_row_.size() - 1; }
 
-  struct Entry {
-    std::uint32_t slot;  // of the value it weighs
-    float weight;
-  };
-  // The rows of kChunk consecutive elements, the chunk's first row being its row 0.
-  struct Chunk {
-    std::vector<std::uint32_t> row;  // entries of row r: entries[row[r] .. row[r + 1])
-    std::vector<Entry> entries;
-  };
-  static constexpr std::size_t kChunk = 128;
-  static constexpr int kAhead = 8;
-
   // Row k of the element at position i: its entries' range.
   [[nodiscard]] std::pair<const Entry*, const Entry*> row(std::size_t i, std::size_t k) const {
     const Chunk& chunk = chunks_[i / kChunk];
@@ -889,8 +957,9 @@ class GatherMatrix {
   std::vector<std::uint32_t> axis_;     // per element: its first axis slot (clusters)
   std::vector<double> link_total_;      // per element: the transport of its own links
   std::vector<std::array<Rgb, 6>> arriving_;  // cosine: per cluster, the links' transport by axis
+  std::vector<const Element*> order_;         // the elements, in pass order
   std::vector<std::uint64_t> links_hash_;     // per element: hash_links
-  std::uint64_t shape_hash_ = 0;              // the clusters' hash_areas, summed
+  std::vector<std::uint64_t> area_hash_;      // per element: hash_areas (clusters), else 0
   std::size_t slots_ = 0;
   std::size_t reused_ = 0;
 };
@@ -930,7 +999,7 @@ class Sweeper {
     }
   }
 
-  /// The gather matrix, for the next build over the same elements, and the value
+  /// The gather matrix, for the next build, and the value
   /// arrays, for the next sweeper (this one cannot sweep after either).
   GatherMatrix release_matrix() { return std::move(matrix_); }
   SweepBuffers release_buffers() {
@@ -1066,9 +1135,9 @@ struct PropagationCache::Impl {
   /// The gather matrix push_transport built, for the propagation that follows it (the
   /// links have not changed in between); that propagation takes it.
   std::optional<GatherMatrix> matrix;
-  /// The last propagation's matrix, kept while the elements stay the same: the next
-  /// build takes the rows of the elements whose links have not changed from it (a
-  /// refinement stage after the first changes the links of few elements).
+  /// The last propagation's matrix: the next build takes the rows of the elements whose
+  /// links have not changed from it (a refinement stage after the first changes the
+  /// links of few elements), renumbered if elements were added.
   std::optional<GatherMatrix> previous;
   /// The last propagation's value arrays.
   SweepBuffers buffers;
@@ -1096,7 +1165,6 @@ struct PropagationCache::Impl {
       return *state;
     }
     matrix.reset();
-    previous.reset();
     state.reset();
     layout.reset();
     elements.clear();
