@@ -9,10 +9,12 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <type_traits>
@@ -585,7 +587,7 @@ class GatherMatrix {
                GatherMatrix* previous = nullptr)
       : cosine_(cosine), first_row_(elements.size() + 1, 0) {
     measure(elements, threads);
-    const Reuse reuse = plan_reuse(previous);
+    Reuse reuse = plan_reuse(previous);
     // One pass over the links (each reads its source's element, a cache miss): a chunk
     // of elements collects its entries row by row in a thread's scratch lists (a kept
     // element's rows copied), then keeps exact-size copies. (Counting the entries first,
@@ -711,6 +713,10 @@ class GatherMatrix {
     bool in_place = false;
     std::vector<std::uint32_t> old_of;   // moved: position -> old position (kNone: new)
     std::vector<std::uint32_t> slot_of;  // moved: old slot -> slot (kNone: areas changed)
+    // Moved: per chunk of old, the chunks of this matrix still to read it; the last one
+    // frees it, so that the two matrices are not both whole at once (the lab's peak
+    // memory: 214 MB with none kept, 241 MB with old freed at the end).
+    std::unique_ptr<std::atomic<std::uint32_t>[]> readers;
   };
   static constexpr std::uint32_t kNone = PassState::kNone;
 
@@ -762,7 +768,7 @@ class GatherMatrix {
     }
     chunks_.resize((order_.size() + kChunk - 1) / kChunk);
     if (!r.old) return r;
-    const GatherMatrix& o = *r.old;
+    GatherMatrix& o = *r.old;
     r.old_of.assign(order_.size(), kNone);
     r.slot_of.assign(o.slots_, kNone);
     for (std::size_t p = 0; p < o.order_.size(); ++p) {
@@ -774,12 +780,23 @@ class GatherMatrix {
       r.slot_of[p] = u;
       for (std::uint32_t k = 0; cluster && k < 6; ++k) r.slot_of[o.axis_[p] + k] = axis_[u] + k;
     }
+    r.readers = std::make_unique<std::atomic<std::uint32_t>[]>(o.chunks_.size());
+    for (std::size_t c = 0; c < chunks_.size(); ++c) {
+      std::uint32_t last = kNone;  // each old chunk once per chunk
+      for (std::size_t i = c * kChunk; i < std::min((c + 1) * kChunk, order_.size()); ++i)
+        if (const std::uint32_t p = r.old_of[i]; p != kNone && p / kChunk != last) {
+          last = static_cast<std::uint32_t>(p / kChunk);
+          r.readers[last].fetch_add(1, std::memory_order_relaxed);
+        }
+    }
+    for (std::size_t c = 0; c < o.chunks_.size(); ++c)
+      if (r.readers[c].load(std::memory_order_relaxed) == 0) o.chunks_[c] = Chunk{};
     return r;
   }
 
   // The rows of chunk c (its elements' entries and sums); returns the elements that kept
   // theirs. `rows`: the calling thread's scratch.
-  std::size_t fill_chunk(std::size_t c, const std::vector<Element*>& elements, const Reuse& reuse,
+  std::size_t fill_chunk(std::size_t c, const std::vector<Element*>& elements, Reuse& reuse,
                          std::vector<std::vector<Entry>>& rows) {
     const std::size_t begin = c * kChunk;
     const std::size_t end = std::min(begin + kChunk, elements.size());
@@ -817,6 +834,15 @@ class GatherMatrix {
           own[k].push_back(Entry{slot_of, static_cast<float>(w)});
         });
       }
+    }
+    if (reuse.readers) {  // done with old's rows: free the chunks no one else reads
+      std::uint32_t last = kNone;
+      for (std::size_t i = begin; i < end; ++i)
+        if (const std::uint32_t p = reuse.old_of[i]; p != kNone && p / kChunk != last) {
+          last = static_cast<std::uint32_t>(p / kChunk);
+          if (reuse.readers[last].fetch_sub(1, std::memory_order_acq_rel) == 1)
+            reuse.old->chunks_[last] = Chunk{};
+        }
     }
     Chunk& chunk = chunks_[c];
     chunk.row.assign(count + 1, 0);
