@@ -60,6 +60,13 @@ struct Refined {
     for (const Element* e : elements) b.push_back(e->B);
     return b;
   }
+  // The radiosity of a propagation to 1e-6 from the emission, with `cache` (none: its
+  // own).
+  std::vector<Rgb> propagated(ClusterReceiver mode, PropagationCache* cache = nullptr) {
+    restart();
+    propagate(elements, 1e-6, 100, 1, mode, false, {}, 0, cache);
+    return radiosity();
+  }
   [[nodiscard]] std::vector<Rgb> pushed() const {
     std::vector<Rgb> n;
     for (const Element* e : elements) n.push_back(e->next);
@@ -67,11 +74,16 @@ struct Refined {
   }
 };
 
-void expect_same(const std::vector<Rgb>& a, const std::vector<Rgb>& b, const char* what) {
-  ASSERT_EQ(a.size(), b.size());
+// Elements whose values differ (a and b of one size).
+std::size_t differing(const std::vector<Rgb>& a, const std::vector<Rgb>& b) {
   std::size_t differ = 0;
   for (std::size_t i = 0; i < a.size(); ++i) differ += (a[i] != b[i]).any() ? 1 : 0;
-  EXPECT_EQ(differ, 0u) << what << ": elements that differ, of " << a.size();
+  return differ;
+}
+
+void expect_same(const std::vector<Rgb>& a, const std::vector<Rgb>& b, const char* what) {
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(differing(a, b), 0u) << what << ": elements that differ, of " << a.size();
 }
 
 TEST(PropagationCache, KeptStateGivesWhatAFreshOneGives) {
@@ -85,9 +97,7 @@ TEST(PropagationCache, KeptStateGivesWhatAFreshOneGives) {
     push_transport(r.elements, mode, 1);
     expect_same(kept_push, r.pushed(), "push_transport");
 
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
-    const std::vector<Rgb> first = r.radiosity();
+    const std::vector<Rgb> first = r.propagated(mode, &cache);
 
     // What a run changes between passes: the leaves' row-sum scales and the push
     // weights; the radiosity starts again from the emission.
@@ -95,16 +105,10 @@ TEST(PropagationCache, KeptStateGivesWhatAFreshOneGives) {
       if (e->child_span().empty()) e->gather_scale = 0.9f;
       e->push_weight *= 0.95f;
     }
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
-    const std::vector<Rgb> kept = r.radiosity();
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode);
-    const std::vector<Rgb> fresh = r.radiosity();
+    const std::vector<Rgb> kept = r.propagated(mode, &cache);
+    const std::vector<Rgb> fresh = r.propagated(mode);
     expect_same(kept, fresh, "propagate after the scales changed");
-    std::size_t moved = 0;
-    for (std::size_t i = 0; i < fresh.size(); ++i) moved += (fresh[i] != first[i]).any() ? 1 : 0;
-    EXPECT_GT(moved, fresh.size() / 2) << "the changes must change the answer";
+    EXPECT_GT(differing(fresh, first), fresh.size() / 2) << "the changes must change the answer";
 
     for (Element* e : r.elements) {
       e->gather_scale = 1;
@@ -119,19 +123,11 @@ TEST(PropagationCache, TheRowSumsMatrixServesOnePropagation) {
   Refined r("builtin:cornell", 1e-3);
   PropagationCache cache;
   push_transport(r.elements, ClusterReceiver::Cosine, 1, &cache);
-  r.restart();
-  propagate(r.elements, 1e-6, 100, 1, ClusterReceiver::Cosine, false, {}, 0, &cache);
-  const std::vector<Rgb> lit = r.radiosity();
+  const std::vector<Rgb> lit = r.propagated(ClusterReceiver::Cosine, &cache);
   r.hierarchy.release_links(r.elements);
-  r.restart();
-  propagate(r.elements, 1e-6, 100, 1, ClusterReceiver::Cosine, false, {}, 0, &cache);
-  const std::vector<Rgb> kept = r.radiosity();
-  r.restart();
-  propagate(r.elements, 1e-6, 100, 1, ClusterReceiver::Cosine);
-  expect_same(kept, r.radiosity(), "propagate after the links went");
-  std::size_t moved = 0;
-  for (std::size_t i = 0; i < lit.size(); ++i) moved += (lit[i] != kept[i]).any() ? 1 : 0;
-  EXPECT_GT(moved, lit.size() / 2) << "without links nothing is reflected";
+  const std::vector<Rgb> kept = r.propagated(ClusterReceiver::Cosine, &cache);
+  expect_same(kept, r.propagated(ClusterReceiver::Cosine), "propagate after the links went");
+  EXPECT_GT(differing(lit, kept), lit.size() / 2) << "without links nothing is reflected";
 }
 
 // Every element's links, in order.
@@ -164,8 +160,7 @@ TEST(PropagationCache, OnlyChangedLinksAreGatheredAgain) {
     SCOPED_TRACE(mode == ClusterReceiver::Isotropic ? "isotropic" : "cosine");
     PropagationCache cache;
     EXPECT_EQ(push_transport(r.elements, mode, 1, &cache), 0u) << "no matrix to keep rows from";
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+    r.propagated(mode, &cache);
 
     const std::vector<std::vector<Link>> before = links_of(r.elements);
     std::vector<std::vector<Link>> after = before;
@@ -184,21 +179,13 @@ TEST(PropagationCache, OnlyChangedLinksAreGatheredAgain) {
     // The same links: every row kept.
     store_all(r, before);
     EXPECT_EQ(push_transport(r.elements, mode, 1, &cache), r.elements.size());
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
-    const std::vector<Rgb> same = r.radiosity();
+    const std::vector<Rgb> same = r.propagated(mode, &cache);
 
     store_all(r, after);
     EXPECT_EQ(push_transport(r.elements, mode, 1, &cache), r.elements.size() - 2);
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
-    const std::vector<Rgb> kept = r.radiosity();
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode);
-    expect_same(kept, r.radiosity(), "two elements' links changed");
-    std::size_t moved = 0;
-    for (std::size_t i = 0; i < kept.size(); ++i) moved += (kept[i] != same[i]).any() ? 1 : 0;
-    EXPECT_GT(moved, 0u) << "the changed links must change the answer";
+    const std::vector<Rgb> kept = r.propagated(mode, &cache);
+    expect_same(kept, r.propagated(mode), "two elements' links changed");
+    EXPECT_GT(differing(kept, same), 0u) << "the changed links must change the answer";
 
     // The others stored again in reverse order: rows kept (in their old order), the
     // sums within rounding of a fresh pass's.
@@ -206,12 +193,8 @@ TEST(PropagationCache, OnlyChangedLinksAreGatheredAgain) {
     for (std::vector<Link>& l : reversed) std::reverse(l.begin(), l.end());
     store_all(r, reversed);
     EXPECT_EQ(push_transport(r.elements, mode, 1, &cache), r.elements.size());
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
-    const std::vector<Rgb> reordered = r.radiosity();
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode);
-    const std::vector<Rgb> fresh = r.radiosity();
+    const std::vector<Rgb> reordered = r.propagated(mode, &cache);
+    const std::vector<Rgb> fresh = r.propagated(mode);
     for (std::size_t i = 0; i < fresh.size(); ++i)
       EXPECT_LE((reordered[i] - fresh[i]).abs().maxCoeff(), 1e-12 * (1 + fresh[i].abs().maxCoeff()))
           << "element " << i;
@@ -229,8 +212,7 @@ TEST(PropagationCache, RowsAreRenumberedWhenElementsAreAdded) {
     Refined r("builtin:cornell", 1e-3);
     PropagationCache cache;
     push_transport(r.elements, mode, 1, &cache);
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
+    r.propagated(mode, &cache);
 
     // Leaves under a cluster that some link comes from.
     std::set<const Element*> sources;
@@ -263,12 +245,8 @@ TEST(PropagationCache, RowsAreRenumberedWhenElementsAreAdded) {
     const std::size_t kept = push_transport(r.elements, mode, 1, &cache);
     EXPECT_GT(kept, before / 2);
     EXPECT_LT(kept, before) << "the split leaves' clusters' rows must be made again";
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode, false, {}, 0, &cache);
-    const std::vector<Rgb> renumbered = r.radiosity();
-    r.restart();
-    propagate(r.elements, 1e-6, 100, 1, mode);
-    expect_same(renumbered, r.radiosity(), "elements added");
+    const std::vector<Rgb> renumbered = r.propagated(mode, &cache);
+    expect_same(renumbered, r.propagated(mode), "elements added");
   }
 }
 
