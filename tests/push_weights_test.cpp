@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <span>
 #include <vector>
 
@@ -123,6 +124,67 @@ TEST(PushWeights, AdjacentWallFavoursTheNearChildren) {
     if (!e->is_cluster()) continue;
     for (const Element& c : e->child_span()) EXPECT_EQ(c.push_weight, 1.0f);
   }
+}
+
+// A chain longer than kPushExactChain: the floor linked to each of the ceiling's 4,096
+// pieces (weak links, radiosity 0.2) and to one adjacent wall (strong). Only the
+// strongest kPushExactChain links are evaluated at each child, the others add their
+// link's value to every child alike: the evaluations stay bounded, energy is kept, and
+// the weights are within 1 % of those from every link (the ceiling's pieces vary
+// little over the floor's quarters; the wall decides the shares).
+TEST(PushWeights, LongChainsEvaluateTheirStrongestLinks) {
+  Room room;
+  std::vector<Element*> w = room.walls();
+  Element& floor = *w[0];
+  Element *ceiling = nullptr, *side = nullptr;
+  for (Element* e : w) {
+    if (e->normal.dot(floor.normal) < -0.5) ceiling = e;
+    if (e != &floor && std::abs(e->normal.dot(floor.normal)) < 0.5) side = e;
+  }
+  ASSERT_NE(ceiling, nullptr);
+  ASSERT_NE(side, nullptr);
+  std::vector<Element*> pieces{ceiling};
+  for (int level = 0; level < 6; ++level) {
+    std::vector<Element*> next;
+    for (Element* e : pieces)
+      for (Element& c : room.h.subdivide(*e, 0, room.locks)) next.push_back(&c);
+    pieces = next;
+  }
+  ASSERT_EQ(pieces.size(), 4096u);
+  std::vector<Element*> sources = pieces;
+  sources.push_back(side);
+  room.link(floor, sources);
+  for (Element* e : pieces) e->B = Rgb::Constant(0.2);
+  const auto kids = room.h.subdivide(floor, 0, room.locks);
+  PushWeights weights;
+  weights.update(room.h.elements(), room.transport, 2);
+  weights.apply(false);
+  // Only the floor's children have a chain (the ceiling's pieces have no links).
+  EXPECT_EQ(weights.evaluations(), kids.size() * kPushExactChain);
+  EXPECT_NEAR(area_weighted_sum(kids), floor.area, 1e-6 * floor.area);
+  // Every link at every child: the side's, and the pieces' (differential form factor,
+  // as the weights weigh a source farther than 3 of its radii).
+  std::vector<double> exact;
+  double mean = 0;
+  for (const Element& c : kids) {
+    double f = room.transport.form_factor_from_point(c.center, c.normal, *side) * side->B.sum();
+    for (const Element* s : pieces) {
+      const Vec3 d = s->center - c.center;
+      const double d2 = d.squaredNorm();
+      f +=
+          s->area * c.normal.dot(d) * -s->normal.dot(d) / (std::numbers::pi * d2 * d2) * s->B.sum();
+    }
+    exact.push_back(f);
+    mean += c.area * f / floor.area;
+  }
+  double lo = 1e9, hi = 0;
+  for (std::size_t k = 0; k < kids.size(); ++k) {
+    EXPECT_NEAR(kids[k].push_weight, exact[k] / mean, 0.01 * exact[k] / mean) << k;
+    lo = std::min(lo, static_cast<double>(kids[k].push_weight));
+    hi = std::max(hi, static_cast<double>(kids[k].push_weight));
+  }
+  EXPECT_GT(hi, 1.2);  // the children along the wall's edge
+  EXPECT_LT(lo, 0.8);
 }
 
 // push_visibility = child: a child behind an occluder gets its own, lower visibility to

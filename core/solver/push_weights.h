@@ -55,6 +55,12 @@ namespace hrad {
 
 class Transport;
 
+/// A chain of more than this many links is cut to its strongest (by the link's form
+/// factor x visibility x the source's radiosity); the others add to every child what
+/// their links give the receiver (core/solver/push_weights.cpp). The builtin scenes'
+/// chains are all shorter.
+inline constexpr std::size_t kPushExactChain = 1024;
+
 /// Both sets of push weights of every surface child, made in one pass (the form
 /// factors are the same, only the sources' radiosities differ): by light, each source
 /// counting with its radiosity (for the propagation), and by geometry, every source
@@ -73,6 +79,9 @@ class PushWeights {
                        int threads, PushVisibility mode = PushVisibility::Link);
   /// Writes one set into every child's push_weight.
   void apply(bool geometric) const;
+  /// Point evaluations of the last update: one per child and link of its parent's
+  /// chain, at most kPushExactChain links per chain.
+  [[nodiscard]] std::uint64_t evaluations() const { return evaluations_; }
 
   /// The children's own visibilities to the partly visible sources of one parent's
   /// chain: sources sorted, visibility[j * children + k] for source j and child k.
@@ -88,6 +97,7 @@ class PushWeights {
   std::vector<float> light_, geometry_;
   std::vector<ChildVisibility> own_;         ///< per old_parents_[i] (push_visibility = child)
   std::vector<const Element*> old_parents_;  ///< parents_ of the update own_ is from
+  std::uint64_t evaluations_ = 0;
 };
 
 /// PushWeights::update followed by apply(geometric).
