@@ -60,6 +60,7 @@ Hierarchy::Hierarchy(const Scene& scene, int workers, const ArenaPlacement& plac
 
   face_normal_.resize(nf);
   for (std::uint32_t f = 0; f < nf; ++f) face_normal_[f] = scene.face_normal(f);
+  find_plane_runs();
   fan_first_.assign(nf, 0);
   for (std::uint32_t f = 0; f < nf; ++f) {
     const Face& face = scene.faces[f];
@@ -74,6 +75,32 @@ Hierarchy::Hierarchy(const Scene& scene, int workers, const ArenaPlacement& plac
   prefix_area_.assign(nf + 1, 0.0);
   for (std::uint32_t i = 0; i < nf; ++i)
     prefix_area_[i + 1] = prefix_area_[i] + scene.face_area(order_[i]);
+}
+
+// Runs of consecutive polygons in cluster order that share a plane and face the same
+// way: each polygon's unit normal within round-off of the run's first polygon's (cosine
+// above 1 - 1e-12) and every corner within 1e-9 of the scene's diagonal of its plane
+// (the tolerance of Transport::classify).
+void Hierarchy::find_plane_runs() {
+  const auto n = static_cast<std::uint32_t>(order_.size());
+  plane_run_end_.assign(n, n);
+  const double tol = 1e-9 * scene_.bounds().diagonal();
+  const auto in_plane_of = [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3& na = face_normal_[a];
+    if (!(na.dot(face_normal_[b]) > 1 - 1e-12)) return false;
+    const Vec3& p0 = scene_.vertices[scene_.indices[scene_.faces[a].first]];
+    const Face& fb = scene_.faces[b];
+    for (std::uint32_t i = 0; i < fb.count; ++i)
+      if (!(std::abs(na.dot(scene_.vertices[scene_.indices[fb.first + i]] - p0)) <= tol))
+        return false;
+    return true;
+  };
+  for (std::uint32_t start = 0; start < n;) {
+    std::uint32_t end = start + 1;
+    while (end < n && in_plane_of(order_[start], order_[end])) ++end;
+    std::fill(plane_run_end_.begin() + start, plane_run_end_.begin() + end, end);
+    start = end;
+  }
 }
 
 Hierarchy::~Hierarchy() {

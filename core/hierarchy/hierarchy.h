@@ -68,6 +68,14 @@ class Hierarchy {
   static constexpr int kFacingTries = 8;
   /// Unit front normal of input polygon `face`.
   [[nodiscard]] const Vec3& face_normal(std::uint32_t face) const { return face_normal_[face]; }
+  /// For a cluster whose member polygons all lie in one plane and face the same way
+  /// (a polygon triangulated into slivers, a tessellated floor): that front normal;
+  /// else (other clusters, surfaces) null. Its centre lies in the plane.
+  [[nodiscard]] const Vec3* common_normal(const Element& e) const {
+    if (!e.is_cluster() || e.face >= e.face_end || plane_run_end_[e.face] < e.face_end)
+      return nullptr;
+    return &face_normal_[order_[e.face]];
+  }
 
   /// Every element, parents before children (a snapshot; call when no refiner runs).
   [[nodiscard]] std::vector<Element*> elements();
@@ -111,12 +119,16 @@ class Hierarchy {
   void init_surface(Element& e, std::uint32_t face, Element* parent, std::uint64_t id);
   void build_cluster(Element& c, std::uint32_t begin, std::uint32_t end, int depth);
   void finish_cluster(Element& c);
+  void find_plane_runs();
   [[nodiscard]] Vec3 sample_face(std::uint32_t face, double u1, double u2, double u3) const;
 
   const Scene& scene_;
   std::vector<std::uint32_t> order_;  ///< faces in cluster order
   std::vector<double> prefix_area_;   ///< prefix sums of face areas in order_
   std::vector<Vec3> face_normal_;     ///< unit normal of each input polygon
+  /// Per position i of order_: one past the last position j such that the polygons at
+  /// positions i .. j - 1 share order_[i]'s plane and normal (common_normal).
+  std::vector<std::uint32_t> plane_run_end_;
   /// Polygons with more than 3 corners: twice the area of each fan triangle (corner 0,
   /// i, i + 1), from fan_area_[fan_first_[face]] on, for sample_face.
   std::vector<std::uint32_t> fan_first_;

@@ -60,6 +60,21 @@ PairClass Transport::classify(const Element& r, const Element& s) const {
                                         : polygon_front(r.corners(), s.normal, s.center);
     if (front <= plane_tol_) return PairClass::Cull;
   }
+  // A cluster whose members share one plane and face one way (a polygon triangulated
+  // into slivers) is culled against what lies wholly behind or on that plane, as a
+  // surface is: without it, such clusters near each other (long slivers are near
+  // everything) were opened down to every pair of their polygons (a comb of 25,000
+  // sliver teeth: 589 M culled tasks).
+  if (const Vec3* n = hierarchy_.common_normal(r)) {
+    const double front =
+        s.is_cluster() ? box_front(s.box, *n, r.center) : polygon_front(s.corners(), *n, r.center);
+    if (front <= plane_tol_) return PairClass::Cull;
+  }
+  if (const Vec3* n = hierarchy_.common_normal(s)) {
+    const double front =
+        r.is_cluster() ? box_front(r.box, *n, s.center) : polygon_front(r.corners(), *n, s.center);
+    if (front <= plane_tol_) return PairClass::Cull;
+  }
   if (r.is_cluster() || s.is_cluster()) {
     const double d = (s.center - r.center).norm();
     if (d < r.radius() + s.radius()) return PairClass::NearField;
