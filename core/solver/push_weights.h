@@ -57,8 +57,7 @@ class Transport;
 
 /// A chain of more than this many links is cut to its strongest (by the link's form
 /// factor x visibility x the source's radiosity); the others add to every child what
-/// their links give the receiver (core/solver/push_weights.cpp). The builtin scenes'
-/// chains are all shorter.
+/// their links give the receiver (core/solver/push_weights.cpp).
 inline constexpr std::size_t kPushExactChain = 1024;
 
 /// Both sets of push weights of every surface child, made in one pass (the form
