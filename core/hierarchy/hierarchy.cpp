@@ -79,12 +79,12 @@ Hierarchy::Hierarchy(const Scene& scene, int workers, const ArenaPlacement& plac
 
 // Runs of consecutive polygons in cluster order that share a plane and face the same
 // way: each polygon's unit normal within round-off of the run's first polygon's (cosine
-// above 1 - 1e-12) and every corner within 1e-9 of the scene's diagonal of its plane
-// (the tolerance of Transport::classify).
+// above 1 - 1e-12) and every corner within kPlaneTolerance of the scene's diagonal of
+// its plane.
 void Hierarchy::find_plane_runs() {
   const auto n = static_cast<std::uint32_t>(order_.size());
   plane_run_end_.assign(n, n);
-  const double tol = 1e-9 * scene_.bounds().diagonal();
+  const double tol = kPlaneTolerance * scene_.bounds().diagonal();
   const auto in_plane_of = [&](std::uint32_t a, std::uint32_t b) {
     const Vec3& na = face_normal_[a];
     if (!(na.dot(face_normal_[b]) > 1 - 1e-12)) return false;

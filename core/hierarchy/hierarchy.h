@@ -27,6 +27,10 @@
 
 namespace hrad {
 
+/// The distance, as a share of the scene's diagonal, within which a point counts as on
+/// a plane: for Hierarchy::common_normal and Transport::classify, which must agree.
+inline constexpr double kPlaneTolerance = 1e-9;
+
 class Hierarchy {
  public:
   /// Polygons per cluster below which a cluster's children are its polygons.

@@ -43,38 +43,26 @@ Transport::Transport(const Hierarchy& hierarchy, const RayScene& rays, int visib
       seed_(seed),
       model_(model),
       scale_(hierarchy.scene().bounds().diagonal()),
-      plane_tol_(1e-9 * hierarchy.scene().bounds().diagonal()),
+      plane_tol_(kPlaneTolerance * hierarchy.scene().bounds().diagonal()),
       shafts_(hierarchy) {}
 
 PairClass Transport::classify(const Element& r, const Element& s) const {
   if (&r == &s) return r.is_cluster() ? PairClass::SourceInside : PairClass::Cull;
   if (contains(&s, &r)) return PairClass::ReceiverInside;
   if (contains(&r, &s)) return PairClass::SourceInside;
-  if (!r.is_cluster()) {
-    const double front = s.is_cluster() ? box_front(s.box, r.normal, r.center)
-                                        : polygon_front(s.corners(), r.normal, r.center);
-    if (front <= plane_tol_) return PairClass::Cull;  // s wholly behind (or on) r's plane
-  }
-  if (!s.is_cluster()) {
-    const double front = r.is_cluster() ? box_front(r.box, s.normal, s.center)
-                                        : polygon_front(r.corners(), s.normal, s.center);
-    if (front <= plane_tol_) return PairClass::Cull;
-  }
-  // A cluster whose members share one plane and face one way (a polygon triangulated
-  // into slivers) is culled against what lies wholly behind or on that plane, as a
-  // surface is: without it, such clusters near each other (long slivers are near
-  // everything) were opened down to every pair of their polygons (a comb of 25,000
-  // sliver teeth: 589 M culled tasks).
-  if (const Vec3* n = hierarchy_.common_normal(r)) {
+  // One end wholly behind (or on) the plane the other lies in and faces from: a
+  // surface's, or that of a cluster whose polygons share one plane and face one way (a
+  // polygon triangulated into slivers). Without the clusters' planes, such clusters near
+  // each other (long slivers are near everything) were opened down to every pair of
+  // their polygons (a comb of 25,000 sliver teeth: 589 M culled tasks).
+  const auto behind = [&](const Element& a, const Element& b) {  // b behind a's plane
+    const Vec3* n = a.is_cluster() ? hierarchy_.common_normal(a) : &a.normal;
+    if (n == nullptr) return false;
     const double front =
-        s.is_cluster() ? box_front(s.box, *n, r.center) : polygon_front(s.corners(), *n, r.center);
-    if (front <= plane_tol_) return PairClass::Cull;
-  }
-  if (const Vec3* n = hierarchy_.common_normal(s)) {
-    const double front =
-        r.is_cluster() ? box_front(r.box, *n, s.center) : polygon_front(r.corners(), *n, s.center);
-    if (front <= plane_tol_) return PairClass::Cull;
-  }
+        b.is_cluster() ? box_front(b.box, *n, a.center) : polygon_front(b.corners(), *n, a.center);
+    return front <= plane_tol_;
+  };
+  if (behind(r, s) || behind(s, r)) return PairClass::Cull;
   if (r.is_cluster() || s.is_cluster()) {
     const double d = (s.center - r.center).norm();
     if (d < r.radius() + s.radius()) return PairClass::NearField;
