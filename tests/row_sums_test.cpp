@@ -3,6 +3,7 @@
 #include "core/solver/row_sums.h"
 #include "core/hierarchy/hierarchy.h"
 #include "core/raycast/ray_scene.h"
+#include "core/transport/form_factor.h"
 #include "tests/solver_test_util.h"
 
 #include <gtest/gtest.h>
@@ -75,7 +76,7 @@ TEST(RowSums, ModesScaleTheLeavesAsDocumented) {
       const Link l{face[static_cast<std::size_t>((i + 1) % 3)], static_cast<float>(sums[i]), 1.0f};
       h.store_links(*face[static_cast<std::size_t>(i)], {&l, 1}, 0);
     }
-    for (int i = 0; i < 4; ++i) face[static_cast<std::size_t>(i)]->escape = escape[i];
+    for (int i = 0; i < 4; ++i) face[static_cast<std::size_t>(i)]->uncovered = escape[i];
     Run r;
     r.st = apply_row_sums(els, mode, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
     for (int i = 0; i < 4; ++i) r.scale[i] = face[static_cast<std::size_t>(i)]->gather_scale;
@@ -133,12 +134,75 @@ TEST(RowSums, NormalizeCastsEscapeRaysOnlyForUnknownEscapes) {
       apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
   EXPECT_EQ(st.rays_cast, 32u);
   for (const Element* e : face) {
-    EXPECT_EQ(e->escape, 1.0f);
+    EXPECT_EQ(e->uncovered, 1.0f);
     EXPECT_EQ(e->gather_scale, 0.0f);
   }
   st = apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
   EXPECT_EQ(st.rays_cast, 0u);  // known now
   EXPECT_EQ(st.corrected, 2u);
+}
+
+// normalize targets the share of a leaf's hemisphere that meets a lit surface. A unit
+// floor square under a wider square 0.5 above it: when the cover faces the floor, the
+// target is the floor's form factor to it (256 rays: 4 standard errors of a share are
+// at most 4 x 0.5 / 16 = 0.125); when it turns its back to the floor, it is black there
+// (as in `hrad reference`): every ray from an open point meets nothing lit, so the
+// uncovered share is exactly 1 (the points whose rays mostly meet the back are taken
+// as closed in and not counted, and the others' rays all meet the back or escape).
+TEST(RowSums, NormalizeCountsBackFacesAsUncovered) {
+  using Poly = std::vector<Vec3>;
+  const Poly floor{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const Poly down{{-0.25, -0.25, 0.5}, {-0.25, 1.25, 0.5}, {1.25, 1.25, 0.5}, {1.25, -0.25, 0.5}};
+  const Poly up{down[3], down[2], down[1], down[0]};
+  for (const bool facing : {true, false}) {
+    SceneBuilder b("cover", "test");
+    const auto m = b.add_material(test::material(0.5, 0), {"t", 0});
+    b.add_polygon(floor, m, {"t", 1});
+    b.add_polygon(facing ? down : up, m, {"t", 2});
+    const Scene scene = b.finish("t");
+    const RayScene rays = RayScene::from_scene(scene);
+    Hierarchy h(scene, 1);
+    std::vector<Element*> els = h.elements();
+    Element* leaf = nullptr;
+    for (Element* e : els)
+      if (!e->is_cluster() && e->face == 0) leaf = e;
+    ASSERT_NE(leaf, nullptr);
+    apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 256, 1, 1);
+    if (facing)
+      EXPECT_NEAR(1.0 - leaf->uncovered, polygon_to_polygon_ff(floor, down, 6), 0.125);
+    else
+      EXPECT_EQ(leaf->uncovered, 1.0f);
+  }
+}
+
+// normalize leaves a closed-in leaf (open fraction 0: it gathers nothing) alone, and
+// lifts a leaf at most kNormalizeGainCap = 2 times: two facing unit squares 1 apart
+// (nothing else), one closed in, the other with a link of F = 0.1 whose target, with
+// its uncovered share set to 0, would be 10 times that.
+TEST(RowSums, NormalizeLeavesClosedInLeavesAloneAndCapsTheGain) {
+  SceneBuilder b("pair", "test");
+  const auto m = b.add_material(test::material(0.5, 0), {"t", 0});
+  using Poly = std::vector<Vec3>;
+  b.add_polygon(Poly{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, m, {"t", 1});
+  b.add_polygon(Poly{{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}}, m, {"t", 2});
+  const Scene scene = b.finish("t");
+  const RayScene rays = RayScene::from_scene(scene);
+  Hierarchy h(scene, 1);
+  std::vector<Element*> els = h.elements();
+  std::vector<Element*> face(2, nullptr);
+  for (Element* e : els)
+    if (!e->is_cluster()) face[e->face] = e;
+  const Link l0{face[1], 0.1f, 1.0f}, l1{face[0], 0.1f, 1.0f};
+  h.store_links(*face[0], {&l0, 1}, 0);
+  h.store_links(*face[1], {&l1, 1}, 0);
+  face[0]->uncovered = 0;
+  face[1]->uncovered = 0;
+  face[1]->open = 0;
+  const RowSumStats st =
+      apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
+  EXPECT_EQ(face[0]->gather_scale, 2.0f);
+  EXPECT_EQ(face[1]->gather_scale, 1.0f);
+  EXPECT_EQ(st.rays_cast, 0u);
 }
 
 }  // namespace

@@ -62,7 +62,7 @@ enum class RowSumMode : std::uint8_t { Keep, Clamp, Normalize };
 inline constexpr EnumName<RowSumMode> kRowSumModeNames[] = {
     {RowSumMode::Keep, "keep", "the links as they are"},
     {RowSumMode::Clamp, "clamp", "leaves above 1 rescaled to 1"},
-    {RowSumMode::Normalize, "normalize", "every leaf to 1 - escape, by rays"},
+    {RowSumMode::Normalize, "normalize", "every leaf to its ray-measured covered share"},
 };
 constexpr std::span<const EnumName<RowSumMode>> enum_names(RowSumMode) { return kRowSumModeNames; }
 

@@ -25,7 +25,7 @@
 // | cluster_receiver    | ClusterReceiver | cosine       | core/config/modes.h                     |
 // | cluster_members     | ClusterMembers  | alike        | core/transport/cluster_exposure.h       |
 // | row_sums            | RowSumMode      | keep         | core/config/modes.h, core/solver/row_sums.h |
-// | row_sum_rays        | int             | 64           | escape rays per leaf (normalize)        |
+// | row_sum_rays        | int             | 64           | covered-share rays per leaf (normalize)  |
 // | locks_pool          | int             | 0            | hashed locks per class (0: 2 x threads) |
 // | trace               | string          | ""           | task trace file ("" = none)             |
 // | image_width         | int             | 640          | render.png width                        |

@@ -78,7 +78,8 @@ const std::vector<Row>& rows() {
        "whether a cluster's members share and show its light by their exposure within it "
        "(cluster_receiver = cosine)"},
       {"row_sums", &S::row_sums, "leaf row-sum rescale, for studies"},
-      {"row_sum_rays", &S::row_sum_rays, "escape rays per leaf when row_sums = normalize"},
+      {"row_sum_rays", &S::row_sum_rays,
+       "rays per leaf that measure its covered share when row_sums = normalize"},
       {"locks_pool", &S::locks_pool, "hashed locks per lock class (0: twice the refiner count)"},
       {"trace", &S::trace, "file to record a task trace to (empty: none)"},
       {"image_width", &S::image_width, "render.png width in pixels (height: 3/4 of it)"},

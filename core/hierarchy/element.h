@@ -75,9 +75,10 @@ struct Element {
   LinkList links;  ///< links where this element is the receiver (core/hierarchy/link_list.h)
   /// Clusters: the propagation's directional state (below); allocated by it.
   std::unique_ptr<ClusterLight> light;
-  /// Fraction of the hemisphere above the element that sees no geometry, estimated by
-  /// rays (row_sums = normalize; negative until estimated).
-  float escape = -1;
+  /// Share of the hemisphere above the element's open points that meets no lit surface
+  /// (nothing, a back face, or the inside of a solid), estimated by rays (row_sums =
+  /// normalize, core/solver/row_sums.cpp; negative until estimated).
+  float uncovered = -1;
 
   [[nodiscard]] bool is_cluster() const { return kind == ElementKind::Cluster; }
   [[nodiscard]] std::span<const Vec3> corners() const {

@@ -1,7 +1,7 @@
 // Row sums: the total transport a leaf gathers, sum over the links of the leaf
 // and of its ancestors of F x V. Physically it is the fraction of the leaf's
-// hemisphere covered by geometry, so it lies in [0, 1] and equals 1 - escape,
-// where `escape` is the fraction of directions that leave the scene.
+// hemisphere that meets a lit surface, so it lies in [0, 1]: 1 less the directions
+// that leave the scene or meet a back face (black).
 //
 // The hierarchical estimate misses this locally: a leaf in a corner gathers
 // from coarse ancestors' links the ancestor's average form factor, and its row
@@ -14,13 +14,17 @@
 //              exceeds 1 (no rays; never adds energy, so it is biased low by
 //              construction: 17 % low in builtin:furnace?rho=0.9, where keep is
 //              within 2 %);
-//   normalize  scale it by (1 - escape) / S, with `escape` estimated from
-//              `rays` cosine-distributed rays per leaf. Exact for closed scenes
-//              (no ray escapes, so the estimate has no noise there); noisy by
-//              about sqrt(escape (1 - escape) / rays) in open ones. Rays that
-//              hit a back face count as covered, so it targets 1 where the
-//              true row sum is 1 - escape - (back-face fraction): high in scenes
-//              with open-ended objects.
+//   normalize  scale it by (1 - uncovered) / S, at most kNormalizeGainCap (2) times,
+//              where `uncovered` is the share of cosine-distributed rays from the
+//              leaf's open points that meet no lit surface: they escape, meet a back
+//              face (black, as in `hrad reference`), or meet the inside of a solid
+//              (row_sum_rays rays per leaf, 4 from each point; a point most of whose
+//              rays meet back faces is closed in and not counted). A closed-in leaf
+//              (open fraction 0) is left alone. Exact for a closed scene without
+//              open-ended objects (every ray from an open point meets a front face);
+//              noisy by about sqrt(u (1 - u) / rays) per leaf otherwise. It corrects
+//              each leaf's total transport, not how the leaf's links share it among
+//              sources of different radiosity.
 #pragma once
 
 #include "core/hierarchy/element.h"
@@ -56,7 +60,7 @@ struct RowSumStats {
 /// `cache`: the run's PropagationCache (core/solver/propagation.h), when it has one.
 RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
                            ClusterReceiver receiver, const Hierarchy& hierarchy,
-                           const RayScene& rays, int escape_rays, std::uint64_t seed, int threads,
+                           const RayScene& rays, int rays_per_leaf, std::uint64_t seed, int threads,
                            PropagationCache* cache = nullptr);
 
 }  // namespace hrad
