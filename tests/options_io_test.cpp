@@ -53,6 +53,7 @@ SolverOptions non_default_options() {
   o.shading = Shading::Flat;
   o.exposure = -2.5;
   o.decision_rays = DecisionRays::Independent;
+  o.decision_visibility_rays = 16;
   o.push_visibility = PushVisibility::Child;
   // The selected plug-ins' own parameters (every one they declare).
   o.plugin_params = {{"scheduler.stealing.victims", "3"},
@@ -97,6 +98,7 @@ void expect_equal(const SolverOptions& a, const SolverOptions& b) {
   EXPECT_EQ(a.shading, b.shading);
   EXPECT_EQ(a.exposure, b.exposure);
   EXPECT_EQ(a.decision_rays, b.decision_rays);
+  EXPECT_EQ(a.decision_visibility_rays, b.decision_visibility_rays);
   EXPECT_EQ(a.push_visibility, b.push_visibility);
   EXPECT_EQ(a.plugin_params, b.plugin_params);
 }
@@ -122,7 +124,7 @@ TEST(OptionsIo, TableHasEveryFieldOnceAndJsonHasEveryKey) {
       selected += chosen;
     }
   }
-  EXPECT_EQ(fields, 34u);  // one per field of SolverOptions but plugin_params
+  EXPECT_EQ(fields, 35u);  // one per field of SolverOptions but plugin_params
   std::size_t declared = 0;
   for (const std::string& n : scheduler_names()) declared += scheduler_params(n).size();
   for (const std::string& n : oracle_names()) declared += oracle_params(n).size();
@@ -145,7 +147,7 @@ TEST(OptionsIo, JsonRoundTripThroughText) {
 }
 
 // The round trip above proves something about a key only if its value there is not the
-// default: non_default_options changes every key of the table (32, one per field of
+// default: non_default_options changes every key of the table (35, one per field of
 // SolverOptions, TableHasEveryFieldOnceAndJsonHasEveryKey), and --set restores each.
 TEST(OptionsIo, RoundTripValuesDifferFromEveryDefault) {
   const SolverOptions d, o = non_default_options();
@@ -307,6 +309,8 @@ TEST(OptionsIo, ValidationNamesTheOffendingOption) {
       {"max_gather_sweeps=0", "max_gather_sweeps"},
       {"locks_pool=-2", "locks_pool"},
       {"decision_rays=fresh", "decision_rays"},
+      {"decision_visibility_rays=-1", "decision_visibility_rays"},
+      {"decision_visibility_rays=1025", "decision_visibility_rays"},
       {"push_visibility=rays", "push_visibility"},
       {"image_width=0", "image_width"},
       {"image_samples=17", "image_samples"},

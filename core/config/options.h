@@ -33,6 +33,7 @@
 // | effects             | EffectsMode     | auto         | core/config/modes.h, effects.h          |
 // | shaft_culling       | ShaftCulling    | off          | core/config/modes.h                     |
 // | decision_rays       | DecisionRays    | shared       | core/config/modes.h                     |
+// | decision_visibility_rays | int        | 0            | rays of a visibility-dependent decision (0: visibility_rays) |
 // | push_visibility     | PushVisibility  | link         | core/config/modes.h, push_weights.h     |
 // | max_memory_gb       | double          | 0            | every phase's memory limit (0: 3/4 RAM) |
 // | camera              | string          | ""           | core/scene/camera_spec.h, auto, or ""   |
@@ -96,6 +97,7 @@ struct SolverOptions {
   EffectsMode effects = EffectsMode::Auto;
   ShaftCulling shaft_culling = ShaftCulling::Off;
   DecisionRays decision_rays = DecisionRays::Shared;
+  int decision_visibility_rays = 0;
   PushVisibility push_visibility = PushVisibility::Link;
   double max_memory_gb = 0;
   std::string camera;

@@ -89,6 +89,10 @@ const std::vector<Row>& rows() {
       {"effects", &S::effects, "which effects are computed"},
       {"shaft_culling", &S::shaft_culling, "visibility without rays where a shaft is empty"},
       {"decision_rays", &S::decision_rays, "which rays an accepted link's visibility is from"},
+      {"decision_visibility_rays", &S::decision_visibility_rays,
+       "rays of a decision that depends on the visibility (the oracles' test of an occluded "
+       "link with a cluster end; 0: visibility_rays); the link's own estimate has "
+       "visibility_rays"},
       {"push_visibility", &S::push_visibility,
        "the visibility a push weight gives each child for a partly visible link"},
       {"max_memory_gb", &S::max_memory_gb,
@@ -516,6 +520,9 @@ void validate_ranges(const SolverOptions& o) {
         fmt::format("between 1 and {}", kMaxIterations));
   check(o.visibility_rays >= 0 && o.visibility_rays <= kMaxRaysPerLink, "visibility_rays",
         str(o.visibility_rays), fmt::format("between 0 and {}", kMaxRaysPerLink));
+  check(o.decision_visibility_rays >= 0 && o.decision_visibility_rays <= kMaxRaysPerLink,
+        "decision_visibility_rays", str(o.decision_visibility_rays),
+        fmt::format("between 0 and {}", kMaxRaysPerLink));
   check(std::isfinite(o.gather_tolerance) && o.gather_tolerance > 0 && o.gather_tolerance <= 1,
         "gather_tolerance", str(o.gather_tolerance), "a number > 0 and <= 1");
   check(o.max_gather_sweeps >= 1 && o.max_gather_sweeps <= kMaxGatherSweeps, "max_gather_sweeps",

@@ -223,24 +223,39 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
         st.split_r = split_receiver(r, s, can_r, can_s);
       return st;
     }
-    est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped);
   }
   if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
   const OracleThresholds th{limits_.eps_power, limits_.mean_irradiance};
-  Verdict v = oracle_.judge(est, th);
   // What the oracle may refine: past min_area too, down to oracle_levels below the input
   // polygon (RefineLimits).
   const bool ask_r = can_r || oracle_may_split(r), ask_s = can_s || oracle_may_split(s);
-  if ((ask_r || ask_s) && limits_.independent_estimates &&
-      depends_on_visibility(oracle_, est, th)) {
+  // Visibility rays are cast where they are read: for the decision when it depends on
+  // them, and for the link once it is accepted. A pair that is refined whatever its
+  // visibility (bf reads the unoccluded F of a surface pair) casts none; the link set
+  // and every accepted link's estimate are the same as if each pair had cast its rays
+  // first (the rays hash the pair, not the order).
+  const bool depends = (ask_r || ask_s) && depends_on_visibility(oracle_, est, th);
+  bool known = task.evaluated;
+  const int decision_rays = limits_.decision_visibility_rays;
+  if (!known && (depends || (!ask_r && !ask_s))) {
+    est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 0,
+                                           depends ? decision_rays : 0);
+    known = true;
+  }
+  Verdict v = oracle_.judge(est, th);
+  if (depends && limits_.independent_estimates) {
     // Decide on the first rays (a reloaded link may hold the second), and if the
     // link is accepted, estimate its visibility from the second (RefineLimits).
     if (task.evaluated) {
-      est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 0);
+      est.visibility =
+          transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 0, decision_rays);
       v = oracle_.judge(est, th);
     }
     if (v.decision == Decision::Accept)
       est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 1);
+  } else if (!known && v.decision == Decision::Accept) {
+    est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped);
+    v = oracle_.judge(est, th);  // the same decision; its error may count the visibility
   }
   st.error = v.error;
   if (v.decision == Decision::Accept || (!ask_r && !ask_s)) {

@@ -56,6 +56,11 @@ struct RefineLimits {
   /// after an iteration in which min_area stopped a noticeable share of what the oracle
   /// asked for (RefineCounters::held_error); 0 until then: min_area holds everywhere.
   int oracle_levels = 0;
+  /// Rays of a decision that depends on the visibility estimate (the oracles weigh an
+  /// occluded link with a cluster end more): 4 rays found a partly hidden pair wholly
+  /// open too often, and the link was kept where it should have been opened (0: the
+  /// transport's visibility_rays).
+  int decision_visibility_rays = 0;
 };
 
 /// A stage's initial tasks: reload_links fills every field of every task in parallel,

@@ -258,10 +258,13 @@ RunStats Solver::run() {
   Impl& m = *impl_;
   const SolverOptions& o = m.options;
   const auto run_start = Clock::now();
-  const RefineLimits limits{o.eps * m.emitted_power, o.min_area * m.total_area,
+  const RefineLimits limits{o.eps * m.emitted_power,
+                            o.min_area * m.total_area,
                             memory_limit_bytes(o.max_memory_gb),
                             m.total_area > 0 ? m.emitted_power / m.total_area : 0.0,
-                            o.decision_rays == DecisionRays::Independent};
+                            o.decision_rays == DecisionRays::Independent,
+                            0,
+                            o.decision_visibility_rays};
   const SchedulerConfig sched_config{o.threads,
                                      o.block_size,
                                      m.topology->info().numa_nodes,

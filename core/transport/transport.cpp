@@ -266,11 +266,12 @@ double Transport::kernel_visibility(SampleA&& sample_a, const Vec3& toward_a, do
 }
 
 double Transport::visibility(const Element& r, const Element& s, std::uint64_t& rays,
-                             std::uint64_t& skipped, unsigned draw) const {
+                             std::uint64_t& skipped, unsigned draw, int count) const {
   if (visibility_rays_ <= 0) return 1.0;
+  const int k = count > 0 ? count : visibility_rays_;
   // The rays would all be unblocked: their fraction is exactly 1.
   if (!visibility_on_ || (shaft_culling_ && shafts_.clear(r, s))) {
-    skipped += static_cast<std::uint64_t>(visibility_rays_);
+    skipped += static_cast<std::uint64_t>(k);
     return 1.0;
   }
   std::uint64_t key = splitmix64_mix(splitmix64_mix(r.id ^ seed_) + s.id);
@@ -281,9 +282,8 @@ double Transport::visibility(const Element& r, const Element& s, std::uint64_t& 
     const Vec3 na = fa == RayScene::kNoPolygon ? r.normal : hierarchy_.face_normal(fa);
     return std::tuple<Vec3, Vec3, std::uint32_t>(a, na, fa);
   };
-  rays += static_cast<std::uint64_t>(visibility_rays_);
-  return kernel_visibility(sample_r, r.center, std::min(r.radius(), s.radius()), s, key,
-                           visibility_rays_);
+  rays += static_cast<std::uint64_t>(k);
+  return kernel_visibility(sample_r, r.center, std::min(r.radius(), s.radius()), s, key, k);
 }
 
 double Transport::visibility_from_point(const Vec3& p, const Vec3& n, const Element& s,

@@ -62,9 +62,10 @@ class Transport {
   /// `rays` and the rays not needed (visibility off for the scene, or an empty shaft:
   /// V = 1) to `skipped`. `draw` picks one of independent sets of random numbers for
   /// the pair (draw 0 is the one the oracle decides on; the refiner re-draws with 1
-  /// where that decision depended on the value, core/solver/refiner.cpp).
+  /// where that decision depended on the value, core/solver/refiner.cpp); `count` rays
+  /// (0: visibility_rays; none at all when visibility_rays is 0).
   [[nodiscard]] double visibility(const Element& r, const Element& s, std::uint64_t& rays,
-                                  std::uint64_t& skipped, unsigned draw = 0) const;
+                                  std::uint64_t& skipped, unsigned draw = 0, int count = 0) const;
   /// The same, without counting skipped rays.
   [[nodiscard]] double visibility(const Element& r, const Element& s, std::uint64_t& rays) const {
     std::uint64_t skipped = 0;
