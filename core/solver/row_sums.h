@@ -18,7 +18,8 @@
 //              where `uncovered` is the share of cosine-distributed rays from the
 //              leaf's open points that meet no lit surface: they escape, meet a back
 //              face (black, as in `hrad reference`), or meet the inside of a solid
-//              (row_sum_rays rays per leaf, 4 from each point; a point most of whose
+//              (row_sum_rays rays per leaf, rounded down to a multiple of 4 and at
+//              least 4, 4 from each point; a point most of whose
 //              rays meet back faces is closed in and not counted). A closed-in leaf
 //              (open fraction 0) is left alone. Exact for a closed scene without
 //              open-ended objects (every ray from an open point meets a front face);
