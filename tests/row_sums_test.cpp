@@ -13,6 +13,32 @@
 namespace hrad {
 namespace {
 
+// A unit square at z = 0 facing up and one at height z facing down: towards the first
+// for z > 0, away from it (back to back) for z < 0.
+Scene two_squares(double z) {
+  SceneBuilder b("two", "test");
+  const auto m = b.add_material(test::material(0.5, 0), {"t", 0});
+  using Poly = std::vector<Vec3>;
+  b.add_polygon(Poly{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, m, {"t", 1});
+  b.add_polygon(Poly{{0, 0, z}, {0, 1, z}, {1, 1, z}, {1, 0, z}}, m, {"t", 2});
+  return b.finish("t");
+}
+
+// The element of each input face, by face index (a hierarchy not yet refined).
+std::vector<Element*> face_elements(const std::vector<Element*>& els, std::size_t faces) {
+  std::vector<Element*> face(faces, nullptr);
+  for (Element* e : els)
+    if (!e->is_cluster()) face[e->face] = e;
+  return face;
+}
+
+// Each of two elements gets a link to the other with form factor f and visibility 1.
+void link_each_other(Hierarchy& h, const std::vector<Element*>& face, float f) {
+  const Link l0{face[1], f, 1.0f}, l1{face[0], f, 1.0f};
+  h.store_links(*face[0], {&l0, 1}, 0);
+  h.store_links(*face[1], {&l1, 1}, 0);
+}
+
 // Three leaves of areas 1, 2 and 1 with row sums 1.0, 1.1 and 0.98: the first and
 // the third lie within 0.97-1.03, so the share within the band is (1 + 1) / 4.
 TEST(RowSums, WithinBandIsTheOpenAreaShareNearOne) {
@@ -69,9 +95,7 @@ TEST(RowSums, ModesScaleTheLeavesAsDocumented) {
   const auto run = [&](RowSumMode mode) {
     Hierarchy h(scene, 1);
     std::vector<Element*> els = h.elements();
-    std::vector<Element*> face(4, nullptr);
-    for (Element* e : els)
-      if (!e->is_cluster()) face[e->face] = e;
+    const std::vector<Element*> face = face_elements(els, 4);
     for (int i = 0; i < 3; ++i) {
       const Link l{face[static_cast<std::size_t>((i + 1) % 3)], static_cast<float>(sums[i]), 1.0f};
       h.store_links(*face[static_cast<std::size_t>(i)], {&l, 1}, 0);
@@ -114,22 +138,12 @@ TEST(RowSums, ModesScaleTheLeavesAsDocumented) {
 // it is kept in the element), and scales the leaf to 1 - that estimate. The lone
 // square sees nothing, so every ray escapes: escape 1, target 0. Exact: tolerance 0.
 TEST(RowSums, NormalizeCastsEscapeRaysOnlyForUnknownEscapes) {
-  SceneBuilder b("two", "test");
-  const auto m = b.add_material(test::material(0.5, 0), {"t", 0});
-  using Poly = std::vector<Vec3>;
-  b.add_polygon(Poly{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, m, {"t", 1});
-  b.add_polygon(Poly{{0, 0, -1}, {0, 1, -1}, {1, 1, -1}, {1, 0, -1}}, m, {"t", 2});
-  const Scene scene = b.finish("t");
+  const Scene scene = two_squares(-1);  // back to back: every ray escapes
   const RayScene rays = RayScene::from_scene(scene);
   Hierarchy h(scene, 1);
   std::vector<Element*> els = h.elements();
-  std::vector<Element*> face(2, nullptr);
-  for (Element* e : els)
-    if (!e->is_cluster()) face[e->face] = e;
-  // Back to back: each faces away from the other, so each leaf's rays all escape.
-  const Link l0{face[1], 0.5f, 1.0f}, l1{face[0], 0.5f, 1.0f};
-  h.store_links(*face[0], {&l0, 1}, 0);
-  h.store_links(*face[1], {&l1, 1}, 0);
+  const std::vector<Element*> face = face_elements(els, 2);
+  link_each_other(h, face, 0.5f);
   RowSumStats st =
       apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
   EXPECT_EQ(st.rays_cast, 32u);
@@ -180,21 +194,12 @@ TEST(RowSums, NormalizeCountsBackFacesAsUncovered) {
 // (nothing else), one closed in, the other with a link of F = 0.1 whose target, with
 // its uncovered share set to 0, would be 10 times that.
 TEST(RowSums, NormalizeLeavesClosedInLeavesAloneAndCapsTheGain) {
-  SceneBuilder b("pair", "test");
-  const auto m = b.add_material(test::material(0.5, 0), {"t", 0});
-  using Poly = std::vector<Vec3>;
-  b.add_polygon(Poly{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, m, {"t", 1});
-  b.add_polygon(Poly{{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}}, m, {"t", 2});
-  const Scene scene = b.finish("t");
+  const Scene scene = two_squares(1);
   const RayScene rays = RayScene::from_scene(scene);
   Hierarchy h(scene, 1);
   std::vector<Element*> els = h.elements();
-  std::vector<Element*> face(2, nullptr);
-  for (Element* e : els)
-    if (!e->is_cluster()) face[e->face] = e;
-  const Link l0{face[1], 0.1f, 1.0f}, l1{face[0], 0.1f, 1.0f};
-  h.store_links(*face[0], {&l0, 1}, 0);
-  h.store_links(*face[1], {&l1, 1}, 0);
+  const std::vector<Element*> face = face_elements(els, 2);
+  link_each_other(h, face, 0.1f);
   face[0]->uncovered = 0;
   face[1]->uncovered = 0;
   face[1]->open = 0;
