@@ -210,5 +210,37 @@ TEST(RowSums, NormalizeLeavesClosedInLeavesAloneAndCapsTheGain) {
   EXPECT_EQ(st.rays_cast, 0u);
 }
 
+// normalize takes a leaf's surplus out of what it inherits from cluster receivers first
+// (a cluster hands its members light whether or not they see the source). Two facing
+// squares under one cluster, each with its own link (F = 0.9, then 1.3) and the cluster
+// a link of F = 0.3 that it hands to both (isotropic receiver), targets 1: a surplus of
+// 0.2 leaves the cluster's part a third (gather_scale 1); a surplus of 0.6, more than
+// the cluster's part, removes that part and scales the leaf's own by 1 / 1.3.
+TEST(RowSums, NormalizeTakesASurplusFromClusterLightFirst) {
+  for (const float own : {0.9f, 1.3f}) {
+    const Scene scene = two_squares(1);
+    const RayScene rays = RayScene::from_scene(scene);
+    Hierarchy h(scene, 1);
+    std::vector<Element*> els = h.elements();
+    const std::vector<Element*> face = face_elements(els, 2);
+    ASSERT_TRUE(h.root().is_cluster());
+    link_each_other(h, face, own);
+    const Link up{face[0], 0.3f, 1.0f};
+    h.store_links(h.root(), {&up, 1}, 0);
+    face[0]->uncovered = 0;
+    face[1]->uncovered = 0;
+    apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
+    for (const Element* e : face) {
+      if (own < 1) {
+        EXPECT_NEAR(e->cluster_scale, 1.0 / 3, 1e-6);
+        EXPECT_EQ(e->gather_scale, 1.0f);
+      } else {
+        EXPECT_EQ(e->cluster_scale, 0.0f);
+        EXPECT_NEAR(e->gather_scale, 1 / 1.3, 1e-6);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hrad

@@ -43,8 +43,11 @@ struct Element {
   std::uint32_t face_end = 0;  ///< clusters: one past the last in face order
   std::uint32_t material = 0;  ///< surfaces only
   /// Leaves: factor applied to the gathered irradiance (row-sum correction, see
-  /// core/solver/row_sums.h; 1 when off).
+  /// core/solver/row_sums.h; 1 when off): gather_scale to what the leaf's surface chain
+  /// gathers, cluster_scale to what it inherits from cluster receivers above its polygon
+  /// (the two differ only where normalize takes a surplus out of the latter).
   float gather_scale = 1;
+  float cluster_scale = 1;
   /// The element's position in the list the last propagation was given (its gather
   /// matrix's row and value slot, core/solver/propagation.cpp); scratch elsewhere. Near
   /// `kind`: the matrix's build reads both from every link's source.

@@ -185,6 +185,7 @@ class PassState {
     std::uint32_t xslot;  // under a cluster with exposures: its place in xin_ / xout_, else kNone
     float push_weight;    // Element::push_weight
     float gather_scale;   // Element::gather_scale
+    float cluster_scale;  // Element::cluster_scale
     double gain;          // open_gain
     double weight;        // area x open weight: its share of its parent's pull
     double area;
@@ -263,6 +264,7 @@ class PassState {
       e.index = static_cast<std::uint32_t>(u);
       d.push_weight = e.push_weight;
       d.gather_scale = e.gather_scale;
+      d.cluster_scale = e.cluster_scale;
       d.gain = open_gain(e);
       d.weight = e.area * open_weight(e);
       d.area = e.area;
@@ -329,7 +331,14 @@ class PassState {
   void pull(std::size_t i, const Relaxation& relax) {
     const Node& d = node_[i];
     if ((d.flags & kLeaf) != 0) {
-      next_[i] = emission_[i] + rho_[i] * (static_cast<double>(d.gather_scale) * next_[i]);
+      // After the push, gathered_ holds what the surface chain gathered and next_ that
+      // plus what came from the clusters above (push).
+      if (d.cluster_scale == d.gather_scale)
+        next_[i] = emission_[i] + rho_[i] * (static_cast<double>(d.gather_scale) * next_[i]);
+      else
+        next_[i] = emission_[i] +
+                   rho_[i] * (static_cast<double>(d.gather_scale) * gathered_[i] +
+                              static_cast<double>(d.cluster_scale) * (next_[i] - gathered_[i]));
       if (relax.older) {
         Rgb& older = (*relax.older)[i];
         const Rgb before = older;

@@ -102,6 +102,7 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
   st.min = std::numeric_limits<double>::infinity();
   for (Element* e : elements) {
     e->gather_scale = 1;
+    e->cluster_scale = 1;
     if (e->is_cluster() || !e->child_span().empty()) continue;
     leaves.push_back(e);
     const double s = e->next[1];
@@ -111,7 +112,7 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
     // coincide with both ends of a segment let it pass through a solid), it would.
     const double cap = kOpenGainCap * std::max(1.0, e->next[0]);
     if (s > cap) {
-      e->gather_scale = static_cast<float>(cap / s);
+      e->gather_scale = e->cluster_scale = static_cast<float>(cap / s);
       ++st.open_capped;
     }
     // The statistics are over the open area, where the row sum means something.
@@ -151,14 +152,33 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
             static_cast<std::uint64_t>(std::max(1, rays_per_leaf / kRaysPerPoint) * kRaysPerPoint);
       }
       target = 1.0 - e.uncovered;
-      if (s > 0) e.gather_scale *= static_cast<float>(std::min(kNormalizeGainCap, target / s));
+      // A surplus comes out of what the leaf inherits from cluster receivers first: a
+      // cluster hands its members light that arrives along their direction whether or
+      // not they see its source (a room's inner walls, whose clusters also hold the
+      // outside, get the outside's light), so the surface chain is the better estimate.
+      const double clusters = s - static_cast<double>(e.gather_scale) * e.gathered[1];
+      if (s > target && clusters > 0) {
+        const double surplus = s - target;
+        if (surplus <= clusters) {
+          e.cluster_scale *= static_cast<float>((clusters - surplus) / clusters);
+        } else {
+          e.cluster_scale = 0;
+          e.gather_scale *= static_cast<float>(target / (s - clusters));
+        }
+      } else if (s > 0) {
+        const auto g = static_cast<float>(std::min(kNormalizeGainCap, target / s));
+        e.gather_scale *= g;
+        e.cluster_scale *= g;
+      }
     } else if (s > target) {
       e.gather_scale *= static_cast<float>(target / s);
+      e.cluster_scale *= static_cast<float>(target / s);
     }
   }
   throw_if_interrupted();
   st.corrected = 0;
-  for (const Element* e : leaves) st.corrected += e->gather_scale != 1.0f ? 1 : 0;
+  for (const Element* e : leaves)
+    st.corrected += e->gather_scale != 1.0f || e->cluster_scale != 1.0f ? 1 : 0;
   st.rays_cast = rays_cast;
   return st;
 }
