@@ -23,9 +23,11 @@
 //              rays meet back faces is closed in and not counted). A closed-in leaf
 //              (open fraction 0) is left alone. Exact for a closed scene without
 //              open-ended objects (every ray from an open point meets a front face);
-//              noisy by about sqrt(u (1 - u) / rays) per leaf otherwise. It corrects
-//              each leaf's total transport, not how the leaf's links share it among
-//              sources of different radiosity.
+//              noisy by about sqrt(u (1 - u) / rays) per leaf otherwise. A surplus
+//              (S above the target) comes out of what the leaf inherits from cluster
+//              receivers first (Element::cluster_scale), and out of its surface chain's
+//              light only beyond that. It corrects each leaf's total transport, not how
+//              the leaf's links share it among sources of different radiosity.
 #pragma once
 
 #include "core/hierarchy/element.h"
