@@ -116,12 +116,9 @@ bool crossed_inside(const RayScene& rays, const Scene& scene, std::span<const Ve
   for (const Vec3& c : f.corner) radius = std::max(radius, (c - centre).norm());
   const std::uint32_t twin = rays.twin(own);
   int tested = 0;
-  std::uint32_t last = RayScene::kNoPolygon;
   bool crossed = false;
   rays.for_each_polygon_near(centre, radius + 2 * tolerance, [&](std::uint32_t other) {
-    // (A polygon of more than four corners comes once per fan triangle.)
-    if (other == own || other == twin || other == last) return true;
-    last = other;
+    if (other == own || other == twin) return true;
     const Face& face = scene.faces[other];
     g.clear();
     for (std::uint32_t c = 0; c < face.count; ++c)

@@ -14,6 +14,7 @@
 // distance). Queries that need neither set no filter.
 #include "core/raycast/ray_scene.h"
 
+#include "core/base/box_tree.h"
 #include "core/raycast/face_contacts.h"
 #include "core/raycast/face_twins.h"
 #include "core/scene/scene.h"
@@ -131,6 +132,8 @@ struct RayScene::Impl {
   std::vector<std::uint32_t> twin;
   // find_face_contacts over the polygons, at kContactReach * diagonal.
   std::vector<std::uint8_t> contact;
+  // The polygons' bounds in world coordinates, for for_each_polygon_near().
+  BoxTree near;
 
   struct alignas(64) Stripe {
     std::atomic<std::uint64_t> rays{0};
@@ -231,8 +234,9 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
   for (const Vec3& p : vertices)
     if (!p.allFinite()) throw std::invalid_argument("RayScene: non-finite vertex coordinate");
 
-  // Validate, and collect the bounding box of the referenced vertices.
+  // Validate, and collect the bounding box of the referenced vertices and each polygon's.
   Aabb box;
+  std::vector<Aabb> bounds(polygons.size());
   for (std::size_t i = 0; i < polygons.size(); ++i) {
     const PolygonRange& r = polygons[i];
     if (r.count < 3 || std::size_t{r.first} + r.count > indices.size())
@@ -240,9 +244,11 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
     for (std::uint32_t k = 0; k < r.count; ++k) {
       if (indices[r.first + k] >= vertices.size())
         throw std::invalid_argument(fmt::format("RayScene: polygon {} indexes past the end", i));
-      box.extend(vertices[indices[r.first + k]]);
+      bounds[i].extend(vertices[indices[r.first + k]]);
     }
+    box.extend(bounds[i]);
   }
+  m.near = BoxTree(std::move(bounds));
   if (!box.empty()) {
     m.centre = box.center();
     m.diagonal = box.diagonal();
@@ -361,46 +367,9 @@ bool RayScene::back_coincides(const Vec3& origin, const Vec3& dir, double t,
   return twin && normal(twin->prim).dot(dir) > 0;
 }
 
-namespace {
-
-// rtcPointQuery's state: the visitor, and whether it asked to stop.
-struct NearQuery {
-  const std::uint32_t* tri_poly;
-  const std::uint32_t* quad_poly;
-  unsigned quad_geom;
-  const std::function<bool(std::uint32_t)>* visit;
-  bool stopped = false;
-};
-
-bool near_callback(RTCPointQueryFunctionArguments* args) {
-  auto* q = static_cast<NearQuery*>(args->userPtr);
-  if (q->stopped) return false;
-  const std::uint32_t poly =
-      args->geomID == q->quad_geom ? q->quad_poly[args->primID] : q->tri_poly[args->primID];
-  if ((*q->visit)(poly)) return false;
-  q->stopped = true;
-  args->query->radius = 0;  // the rest of the traversal keeps to the centre
-  return true;
-}
-
-}  // namespace
-
 void RayScene::for_each_polygon_near(const Vec3& centre, double radius,
                                      const std::function<bool(std::uint32_t)>& visit) const {
-  const Impl& m = *impl_;
-  if (m.polygons == 0) return;
-  const Vec3 c = (centre - m.centre) * m.inv_scale;
-  RTCPointQuery query;
-  query.x = static_cast<float>(c.x());
-  query.y = static_cast<float>(c.y());
-  query.z = static_cast<float>(c.z());
-  // (Up a little: float rounding must not lose a polygon at the sphere's edge.)
-  query.radius = to_float_distance(radius * m.inv_scale * (1 + 1e-5) + 1e-6);
-  query.time = 0;
-  RTCPointQueryContext context;
-  rtcInitPointQueryContext(&context);
-  NearQuery q{m.tri_poly.data(), m.quad_poly.data(), m.quad_geom, &visit};
-  rtcPointQuery(m.scene, &query, &context, &near_callback, &q);
+  impl_->near.for_each_near(centre, radius, visit);
 }
 
 std::uint64_t RayScene::rays_cast() const {

@@ -154,9 +154,9 @@ class RayScene {
   /// The reach of lies_against(), relative to scale(): four times the reach of the open
   /// fractions' contact tests (core/transport/open_fraction.cpp).
   static constexpr double kContactReach = 16 * kEndpointEpsilon;
-  /// Calls visit(polygon) for every polygon whose bounds may reach the sphere of `radius`
-  /// around `centre` (a superset: bounding boxes are compared), until it returns false;
-  /// a polygon of more than four corners may come once per fan triangle. Thread-safe.
+  /// Calls visit(polygon) once for every polygon whose bounding box reaches the sphere of
+  /// `radius` around `centre` (a superset of those the sphere meets), until it returns
+  /// false; the search ends there (core/base/box_tree.h). Thread-safe.
   void for_each_polygon_near(const Vec3& centre, double radius,
                              const std::function<bool(std::uint32_t)>& visit) const;
 

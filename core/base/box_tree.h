@@ -1,0 +1,74 @@
+// A static tree over axis-aligned boxes, for "which boxes may meet this sphere" queries
+// that stop as soon as the caller has seen enough. The face crossings of the open
+// fractions (core/raycast/face_crossings.cpp) ask it for the polygons near a piece and
+// give up after a few hundred. Embree's point query could not stop: after the last
+// wanted candidate it still visited every box holding the query's centre, and in a fan
+// of slivers that share a corner (a 100,000-corner disc) that is most of them, for
+// every piece: quadratic in the slivers.
+#pragma once
+
+#include "core/base/geometry.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace hrad {
+
+class BoxTree {
+ public:
+  BoxTree() = default;
+  /// Indexes boxes[i] as i. Empty boxes are never reported.
+  explicit BoxTree(std::vector<Aabb> boxes);
+
+  /// Calls visit(i) for every indexed box i within `radius` of `centre` (closed: a box
+  /// touching the sphere counts), each once, in no set order, until visit returns false;
+  /// returns whether every call returned true.
+  template <class Visit>
+  bool for_each_near(const Vec3& centre, double radius, const Visit& visit) const {
+    if (nodes_.empty() || !(radius >= 0)) return true;
+    const double r2 = radius * radius;
+    const auto near = [&](const Aabb& b) {
+      const Vec3 below = (b.lo - centre).cwiseMax(0.0);
+      const Vec3 above = (centre - b.hi).cwiseMax(0.0);
+      return (below + above).squaredNorm() <= r2;
+    };
+    std::uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      if (!near(node.box)) continue;
+      if (node.left == kLeaf) {
+        for (std::uint32_t k = node.begin; k < node.end; ++k)
+          if (near(boxes_[ids_[k]]) && !visit(ids_[k])) return false;
+        continue;
+      }
+      stack[top++] = node.left;
+      stack[top++] = node.right;
+    }
+    return true;
+  }
+
+  [[nodiscard]] std::size_t size() const { return ids_.size(); }
+
+ private:
+  static constexpr std::uint32_t kLeaf = 0;  // the root is node 0, never a child
+  static constexpr std::size_t kLeafBoxes = 4;
+  struct Node {
+    Aabb box;                                   // union of the node's boxes
+    std::uint32_t left = kLeaf, right = kLeaf;  // children, or kLeaf
+    std::uint32_t begin = 0, end = 0;           // leaves: ids_[begin .. end)
+  };
+
+  // Builds the node of ids_[begin, end) and those below; returns its index. Halves
+  // split at the median box centre along the node's longest side, so the depth is
+  // about log2(n / kLeafBoxes) + 1 and a query's stack holds at most one node a level
+  // (plus one) of its 64.
+  std::uint32_t build(std::size_t begin, std::size_t end);
+
+  std::vector<Aabb> boxes_;
+  std::vector<std::uint32_t> ids_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace hrad
