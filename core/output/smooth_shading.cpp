@@ -1,5 +1,7 @@
 #include "core/output/smooth_shading.h"
 
+#include "core/output/smoothing_groups.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -96,12 +98,6 @@ RenderMesh flat_mesh(std::span<const ShadingPatch> patches) {
   return mesh;
 }
 
-/// Smallest root of a tiny union-find over the leaves meeting at one point.
-std::size_t root_of(std::vector<std::size_t>& parent, std::size_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
 // Each patch's boundary loop: its corners with the hanging points between them, as
 // point ids of `index`, loop after loop.
 struct Loops {
@@ -154,41 +150,49 @@ std::vector<std::uint32_t> shared_vertices(std::span<const ShadingPatch> patches
   }
   std::vector<std::uint32_t> loop_vertex(l.point.size());
   const double min_cos = std::cos(kSmoothAngleDeg * std::numbers::pi / 180);
-  std::vector<std::size_t> parent;
+  std::vector<std::uint32_t> material;
+  std::vector<Vec3> normal;
+  std::vector<std::size_t> group;
+  std::vector<Rgb> open_sum, area_sum;
+  std::vector<double> open_w, area_w;
+  std::vector<std::uint32_t> vertex;
   for (std::size_t pt = 0; pt < index.size(); ++pt) {
     const std::size_t b = at_begin[pt], n = at_begin[pt + 1] - b;
     const auto patch_at = [&](std::size_t i) -> const ShadingPatch& {
       return patches[l.patch[at[b + i]]];
     };
-    parent.resize(n);
-    for (std::size_t i = 0; i < n; ++i) parent[i] = i;
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = i + 1; j < n; ++j)
-        if (patch_at(i).material == patch_at(j).material &&
-            patch_at(i).normal.dot(patch_at(j).normal) >= min_cos)
-          parent[root_of(parent, j)] = root_of(parent, i);
-    for (std::size_t g = 0; g < n; ++g) {
-      if (root_of(parent, g) != g) continue;
-      Rgb open_sum = Rgb::Zero(), area_sum = Rgb::Zero();
-      double open_w = 0, area_w = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (root_of(parent, i) != g) continue;
-        const ShadingPatch& p = patch_at(i);
-        const double w = p.area * std::clamp(p.open, 0.0, 1.0);
-        open_sum += w * p.radiosity;
-        open_w += w;
-        area_sum += p.area * p.radiosity;
-        area_w += p.area;
-      }
-      const auto v = static_cast<std::uint32_t>(mesh.positions.size());
-      mesh.positions.push_back(index.point(static_cast<std::uint32_t>(pt)));
-      mesh.radiosity.push_back(open_w > 0   ? Rgb(open_sum / open_w)
-                               : area_w > 0 ? Rgb(area_sum / area_w)
-                                            : patch_at(g).radiosity);
-      mesh.reflectance.push_back(patch_at(g).reflectance);
-      for (std::size_t i = 0; i < n; ++i)
-        if (root_of(parent, i) == g) loop_vertex[at[b + i]] = v;
+    material.resize(n);
+    normal.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      material[i] = patch_at(i).material;
+      normal[i] = patch_at(i).normal;
     }
+    smoothing_groups(material, normal, min_cos, group);
+    // Each group's open-area mean, summed in the order of its leaves.
+    open_sum.assign(n, Rgb::Zero());
+    area_sum.assign(n, Rgb::Zero());
+    open_w.assign(n, 0.0);
+    area_w.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const ShadingPatch& p = patch_at(i);
+      const std::size_t g = group[i];
+      const double w = p.area * std::clamp(p.open, 0.0, 1.0);
+      open_sum[g] += w * p.radiosity;
+      open_w[g] += w;
+      area_sum[g] += p.area * p.radiosity;
+      area_w[g] += p.area;
+    }
+    vertex.resize(n);
+    for (std::size_t g = 0; g < n; ++g) {
+      if (group[g] != g) continue;
+      vertex[g] = static_cast<std::uint32_t>(mesh.positions.size());
+      mesh.positions.push_back(index.point(static_cast<std::uint32_t>(pt)));
+      mesh.radiosity.push_back(open_w[g] > 0   ? Rgb(open_sum[g] / open_w[g])
+                               : area_w[g] > 0 ? Rgb(area_sum[g] / area_w[g])
+                                               : patch_at(g).radiosity);
+      mesh.reflectance.push_back(patch_at(g).reflectance);
+    }
+    for (std::size_t i = 0; i < n; ++i) loop_vertex[at[b + i]] = vertex[group[i]];
   }
   return loop_vertex;
 }
