@@ -282,6 +282,68 @@ TEST(RayScene, FromSceneUsesFaceIndices) {
   EXPECT_EQ(bottom->prim, 1u);
 }
 
+/// An axis-aligned box [lo, hi] of six quads facing out; returns its first face (-x;
+/// then +x, -y, +y, -z, +z).
+std::uint32_t add_box(Soup& s, const Vec3& lo, const Vec3& hi) {
+  const std::uint32_t first = s.add({{lo.x(), lo.y(), lo.z()},
+                                     {lo.x(), lo.y(), hi.z()},
+                                     {lo.x(), hi.y(), hi.z()},
+                                     {lo.x(), hi.y(), lo.z()}});
+  s.add({{hi.x(), lo.y(), lo.z()},
+         {hi.x(), hi.y(), lo.z()},
+         {hi.x(), hi.y(), hi.z()},
+         {hi.x(), lo.y(), hi.z()}});
+  s.add({{lo.x(), lo.y(), lo.z()},
+         {hi.x(), lo.y(), lo.z()},
+         {hi.x(), lo.y(), hi.z()},
+         {lo.x(), lo.y(), hi.z()}});
+  s.add({{lo.x(), hi.y(), lo.z()},
+         {lo.x(), hi.y(), hi.z()},
+         {hi.x(), hi.y(), hi.z()},
+         {hi.x(), hi.y(), lo.z()}});
+  s.add({{lo.x(), lo.y(), lo.z()},
+         {lo.x(), hi.y(), lo.z()},
+         {hi.x(), hi.y(), lo.z()},
+         {hi.x(), lo.y(), lo.z()}});
+  s.add({{lo.x(), lo.y(), hi.z()},
+         {hi.x(), lo.y(), hi.z()},
+         {hi.x(), hi.y(), hi.z()},
+         {lo.x(), hi.y(), hi.z()}});
+  return first;
+}
+
+// Two keys of a keyboard (1.6 cm boxes 3 mm apart) in a scene 283 units across: the
+// coincidence window beyond a hit was 4e-5 of the scene (11 mm), so a ray that met a
+// key's side within that of its top edge found the top's back "coinciding" and counted
+// as inside a solid (black bands along every small box's edges, in the solver's open
+// fractions and probes and in `hrad reference`). The window now follows the polygon's
+// own size; a box pushed against a wall still lies against it.
+TEST(RayScene, CoincidenceFollowsThePolygonsOwnSize) {
+  Soup s;
+  s.add({{-100, -50, -100}, {100, -50, -100}, {100, -50, 100}, {-100, -50, 100}});  // far, down
+  add_box(s, {0, 0, 0}, {0.016, 0.015, 0.016});
+  const std::uint32_t b = add_box(s, {0.019, 0, 0}, {0.035, 0.015, 0.016});
+  const std::uint32_t wall =
+      s.add({{0, -0.01, -0.01}, {0, 0.03, -0.01}, {0, 0.03, 0.03}, {0, -0.01, 0.03}});
+  const RayScene rs = s.build();
+  ASSERT_GT(rs.scale(), 280);
+  ASSERT_TRUE(rs.lies_against(b));  // the other key's side, 3 mm away, faces it
+  // Its own share, or single precision's resolution there (about 0.1 mm: the key is 25
+  // units from the frame's centre), far under the scene's 3e-5 x 283 (8.5 mm).
+  EXPECT_GE(rs.coincidence(b), RayScene::kCoincidentShare * std::hypot(0.015, 0.016));
+  EXPECT_LT(rs.coincidence(b), 1e-4);
+  EXPECT_NEAR(rs.coincidence(0), 3 * RayScene::kEndpointEpsilon * rs.scale(), 1e-9);
+  // From the gap, up onto the second key's side 0.5 mm under its top edge.
+  const Vec3 from(0.0175, 0.005, 0.008), dir(0.0015, 0.0095, 0);
+  const auto hit = rs.intersect(from, dir);
+  ASSERT_TRUE(hit);
+  ASSERT_EQ(hit->prim, b);
+  EXPECT_FALSE(rs.back_coincides(from, dir, hit->t, hit->prim));
+  // From inside the first key through its side, which lies in the wall's plane.
+  ASSERT_TRUE(rs.lies_against(wall));
+  EXPECT_TRUE(rs.back_coincides({0.008, 0.0075, 0.008}, {-1, 0, 0}, 0.008, wall));
+}
+
 /// Random small triangles in the unit cube.
 Soup random_triangles(int n, unsigned seed) {
   std::mt19937 rng(seed);

@@ -25,8 +25,7 @@ std::vector<std::size_t> by_pairs(const std::vector<std::uint32_t>& material,
       const std::size_t i = todo.back();
       todo.pop_back();
       for (std::size_t j = 0; j < n; ++j)
-        if (label[j] == n && material[i] == material[j] &&
-            normal[i].dot(normal[j]) >= min_cos) {
+        if (label[j] == n && material[i] == material[j] && normal[i].dot(normal[j]) >= min_cos) {
           label[j] = s;
           todo.push_back(j);
         }
@@ -36,8 +35,7 @@ std::vector<std::size_t> by_pairs(const std::vector<std::uint32_t>& material,
 }
 
 void expect_same_partition(const std::vector<std::uint32_t>& material,
-                           const std::vector<Vec3>& normal, double min_cos,
-                           const char* what) {
+                           const std::vector<Vec3>& normal, double min_cos, const char* what) {
   std::vector<std::size_t> group;
   smoothing_groups(material, normal, min_cos, group);
   const std::vector<std::size_t> want = by_pairs(material, normal, min_cos);
@@ -55,7 +53,8 @@ TEST(SmoothingGroups, ManyLeavesAtAPointGroupAsEveryPairSays) {
   std::mt19937 rng(3);
   std::normal_distribution<double> g;
   std::uniform_real_distribution<double> u(0, 1);
-  for (const std::size_t n : {std::size_t{10}, std::size_t{64}, std::size_t{65}, std::size_t{700}}) {
+  for (const std::size_t n :
+       {std::size_t{10}, std::size_t{64}, std::size_t{65}, std::size_t{700}}) {
     // Random directions, two materials, one normal that is not a unit vector.
     std::vector<std::uint32_t> material(n);
     std::vector<Vec3> normal(n);

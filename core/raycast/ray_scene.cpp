@@ -134,6 +134,8 @@ struct RayScene::Impl {
   std::vector<std::uint8_t> contact;
   // The polygons' bounds in world coordinates, for for_each_polygon_near().
   BoxTree near;
+  // coincidence() of each polygon, world units.
+  std::vector<double> coincide;
 
   struct alignas(64) Stripe {
     std::atomic<std::uint64_t> rays{0};
@@ -248,7 +250,6 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
     }
     box.extend(bounds[i]);
   }
-  m.near = BoxTree(std::move(bounds));
   if (!box.empty()) {
     m.centre = box.center();
     m.diagonal = box.diagonal();
@@ -264,6 +265,19 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
   }
 
   m.contact = find_face_contacts(vertices, indices, polygons, m.twin, kContactReach * m.tolerance);
+  // What counts as coincident with each polygon: the global reach, unless the polygon is
+  // small beside the scene (kCoincidentShare of its own diagonal), but never under what
+  // single precision can tell apart where it lies.
+  m.coincide.resize(polygons.size());
+  const double reach = 3 * kEndpointEpsilon * m.tolerance;
+  for (std::size_t i = 0; i < polygons.size(); ++i) {
+    const Aabb& b = bounds[i];
+    const double far = std::max(((b.lo - m.centre) * m.inv_scale).cwiseAbs().maxCoeff(),
+                                ((b.hi - m.centre) * m.inv_scale).cwiseAbs().maxCoeff());
+    const double noise = kPrecisionUlps * far * std::numeric_limits<float>::epsilon() / m.inv_scale;
+    m.coincide[i] = std::min(reach, std::max(noise, kCoincidentShare * b.diagonal()));
+  }
+  m.near = BoxTree(std::move(bounds));
 
   // Split into Embree primitives and record the double-precision planes.
   std::vector<std::uint32_t> tri_idx, quad_idx;
@@ -357,13 +371,19 @@ const Vec3& RayScene::normal(std::uint32_t poly) const { return impl_->normal.at
 
 bool RayScene::lies_against(std::uint32_t poly) const { return impl_->contact.at(poly) != 0; }
 
+double RayScene::coincidence(std::uint32_t poly) const { return impl_->coincide.at(poly); }
+
 bool RayScene::back_coincides(const Vec3& origin, const Vec3& dir, double t,
                               std::uint32_t poly) const {
   if (!lies_against(poly)) return false;  // nothing coincides with it
   const double back_off = 4 * kEndpointEpsilon * scale() / dir.norm();
+  // Beyond the hit, only a back within coincidence(poly) (4/3 of it: 4 kEndpointEpsilon
+  // scale() at most, as before the hit) lies against it: a room's floor 5 mm above a
+  // 200 x 200 ground that faces down is no contact with it.
+  const double beyond = 4.0 / 3.0 * coincidence(poly) / dir.norm();
   // (Not from behind the origin: the face it lies on would be met there.)
   const double start = std::max(t - back_off, 0.0);
-  const auto twin = intersect(origin + start * dir, dir, t - start + back_off, poly);
+  const auto twin = intersect(origin + start * dir, dir, t - start + beyond, poly);
   return twin && normal(twin->prim).dot(dir) > 0;
 }
 

@@ -60,7 +60,8 @@ bool facing_twin(const Vec3& at, const Vec3& n, std::uint32_t own, const Hierarc
                  const RayScene& rays, std::uint64_t& cast) {
   if (!rays.lies_against(own)) return false;  // no face lies against its face
   ++cast;
-  const double reach = 4 * RayScene::kEndpointEpsilon * rays.scale();
+  // (The ray's start exclusion, kEndpointEpsilon scale(), takes its first stretch.)
+  const double reach = RayScene::kEndpointEpsilon * rays.scale() + rays.coincidence(own);
   const auto hit = rays.intersect(at - reach * n, n, 2 * reach, own);
   return hit && h.face_normal(hit->prim).dot(n) < 0;
 }
