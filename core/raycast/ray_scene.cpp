@@ -195,6 +195,83 @@ struct RayScene::Impl {
     if (a != kNoPolygon || b != kNoPolygon || c.twin) c.base.filter = &ignore_filter;
   }
 
+  // The frame of the normalised coordinates and the tolerances: about the bounding box
+  // `box` of the referenced vertices, or about the bulk (kLocalFrame).
+  void set_frame(const Aabb& box, const Aabb* bulk) {
+    if (box.empty()) return;
+    centre = box.center();
+    diagonal = box.diagonal();
+    tolerance = diagonal;
+    if (diagonal > 0) inv_scale = 1.0 / diagonal;
+    if (bulk && !bulk->empty() && bulk->diagonal() > 0 &&
+        diagonal > kLocalFrame * bulk->diagonal()) {
+      local = true;
+      centre = bulk->center();
+      tolerance = kLocalFrame * bulk->diagonal();
+      epsilon = kEndpointEpsilon * tolerance * inv_scale;
+    }
+  }
+
+  // What counts as coincident with each polygon (its bounds[i]): the global reach, unless
+  // the polygon is small beside the scene (kCoincidentShare of its own diagonal), but
+  // never under what single precision can tell apart where it lies.
+  void set_coincidence(const std::vector<Aabb>& bounds) {
+    coincide.resize(bounds.size());
+    const double reach = 3 * kEndpointEpsilon * tolerance;
+    for (std::size_t i = 0; i < bounds.size(); ++i) {
+      const Aabb& b = bounds[i];
+      const double far = std::max(((b.lo - centre) * inv_scale).cwiseAbs().maxCoeff(),
+                                  ((b.hi - centre) * inv_scale).cwiseAbs().maxCoeff());
+      const double noise = kPrecisionUlps * far * std::numeric_limits<float>::epsilon() / inv_scale;
+      coincide[i] = std::min(reach, std::max(noise, kCoincidentShare * b.diagonal()));
+    }
+  }
+
+  // The Embree device, scene and geometries of the vertices (in the normalised frame)
+  // and the triangle and quad index lists.
+  void build_embree(std::span<const Vec3> vertices, const std::vector<std::uint32_t>& tri_idx,
+                    const std::vector<std::uint32_t>& quad_idx, Build build) {
+    device = rtcNewDevice(nullptr);
+    if (!device)
+      throw std::runtime_error(fmt::format("Embree: cannot create a device ({})",
+                                           error_name(rtcGetDeviceError(nullptr))));
+    rtcSetDeviceErrorFunction(device, &Impl::on_error, this);
+    if (!rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
+      throw std::runtime_error(
+          "Embree was built without filter functions (needed to ignore polygons)");
+    scene = rtcNewScene(device);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    rtcSetSceneBuildQuality(
+        scene, build == Build::Fast ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);
+    check("creating the scene");
+
+    if (polygons > 0) {
+      // Vertex buffers must stay readable with one 16-byte load at the last vertex:
+      // allocate one spare float.
+      RTCBuffer vb = rtcNewBuffer(device, (3 * vertices.size() + 1) * sizeof(float));
+      if (auto* f = static_cast<float*>(vb ? rtcGetBufferData(vb) : nullptr)) {
+        for (std::size_t i = 0; i < vertices.size(); ++i) {
+          const Vec3 q = (vertices[i] - centre) * inv_scale;
+          for (int c = 0; c < 3; ++c) f[3 * i + c] = static_cast<float>(q[c]);
+        }
+        f[3 * vertices.size()] = 0;
+      }
+      try {
+        check("allocating the vertex buffer");
+        if (!tri_idx.empty())
+          tri_geom = add_geometry(RTC_GEOMETRY_TYPE_TRIANGLE, vb, vertices.size(), tri_idx, 3);
+        if (!quad_idx.empty())
+          quad_geom = add_geometry(RTC_GEOMETRY_TYPE_QUAD, vb, vertices.size(), quad_idx, 4);
+      } catch (...) {
+        if (vb) rtcReleaseBuffer(vb);
+        throw;
+      }
+      rtcReleaseBuffer(vb);  // the geometries hold their own references
+    }
+    rtcCommitScene(scene);
+    check("building the BVH");
+  }
+
   void count_ray() const { counters[thread_stripe()].rays.fetch_add(1, std::memory_order_relaxed); }
 
   unsigned add_geometry(RTCGeometryType type, RTCBuffer vertices, std::size_t vertex_count,
@@ -250,33 +327,10 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
     }
     box.extend(bounds[i]);
   }
-  if (!box.empty()) {
-    m.centre = box.center();
-    m.diagonal = box.diagonal();
-    m.tolerance = m.diagonal;
-    if (m.diagonal > 0) m.inv_scale = 1.0 / m.diagonal;
-    if (bulk && !bulk->empty() && bulk->diagonal() > 0 &&
-        m.diagonal > kLocalFrame * bulk->diagonal()) {
-      m.local = true;
-      m.centre = bulk->center();
-      m.tolerance = kLocalFrame * bulk->diagonal();
-      m.epsilon = kEndpointEpsilon * m.tolerance * m.inv_scale;
-    }
-  }
+  m.set_frame(box, bulk);
 
   m.contact = find_face_contacts(vertices, indices, polygons, m.twin, kContactReach * m.tolerance);
-  // What counts as coincident with each polygon: the global reach, unless the polygon is
-  // small beside the scene (kCoincidentShare of its own diagonal), but never under what
-  // single precision can tell apart where it lies.
-  m.coincide.resize(polygons.size());
-  const double reach = 3 * kEndpointEpsilon * m.tolerance;
-  for (std::size_t i = 0; i < polygons.size(); ++i) {
-    const Aabb& b = bounds[i];
-    const double far = std::max(((b.lo - m.centre) * m.inv_scale).cwiseAbs().maxCoeff(),
-                                ((b.hi - m.centre) * m.inv_scale).cwiseAbs().maxCoeff());
-    const double noise = kPrecisionUlps * far * std::numeric_limits<float>::epsilon() / m.inv_scale;
-    m.coincide[i] = std::min(reach, std::max(noise, kCoincidentShare * b.diagonal()));
-  }
+  m.set_coincidence(bounds);
   m.near = BoxTree(std::move(bounds));
 
   // Split into Embree primitives and record the double-precision planes.
@@ -304,45 +358,7 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
     }
   }
 
-  m.device = rtcNewDevice(nullptr);
-  if (!m.device)
-    throw std::runtime_error(
-        fmt::format("Embree: cannot create a device ({})", error_name(rtcGetDeviceError(nullptr))));
-  rtcSetDeviceErrorFunction(m.device, &Impl::on_error, &m);
-  if (!rtcGetDeviceProperty(m.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
-    throw std::runtime_error(
-        "Embree was built without filter functions (needed to ignore polygons)");
-  m.scene = rtcNewScene(m.device);
-  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-  rtcSetSceneBuildQuality(m.scene,
-                          build == Build::Fast ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH);
-  m.check("creating the scene");
-
-  if (!polygons.empty()) {
-    // Vertex buffers must stay readable with one 16-byte load at the last vertex:
-    // allocate one spare float.
-    RTCBuffer vb = rtcNewBuffer(m.device, (3 * vertices.size() + 1) * sizeof(float));
-    if (auto* f = static_cast<float*>(vb ? rtcGetBufferData(vb) : nullptr)) {
-      for (std::size_t i = 0; i < vertices.size(); ++i) {
-        const Vec3 q = (vertices[i] - m.centre) * m.inv_scale;
-        for (int c = 0; c < 3; ++c) f[3 * i + c] = static_cast<float>(q[c]);
-      }
-      f[3 * vertices.size()] = 0;
-    }
-    try {
-      m.check("allocating the vertex buffer");
-      if (!tri_idx.empty())
-        m.tri_geom = m.add_geometry(RTC_GEOMETRY_TYPE_TRIANGLE, vb, vertices.size(), tri_idx, 3);
-      if (!quad_idx.empty())
-        m.quad_geom = m.add_geometry(RTC_GEOMETRY_TYPE_QUAD, vb, vertices.size(), quad_idx, 4);
-    } catch (...) {
-      if (vb) rtcReleaseBuffer(vb);
-      throw;
-    }
-    rtcReleaseBuffer(vb);  // the geometries hold their own references
-  }
-  rtcCommitScene(m.scene);
-  m.check("building the BVH");
+  m.build_embree(vertices, tri_idx, quad_idx, build);
 }
 
 RayScene RayScene::from_scene(const Scene& scene, Build build) {

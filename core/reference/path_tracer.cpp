@@ -194,6 +194,28 @@ Rgb PathTracer::batch_mean(const Probe& probe, std::uint64_t seed, std::uint64_t
   return sum / static_cast<double>(std::max(paths, 1));
 }
 
+namespace {
+
+// A probe's estimate from its batch means (at least two), in batch order: their mean, the
+// standard error of that mean, the samples, and the paths cut at the bounce cap.
+void summarise(const std::vector<Rgb>& means, const std::vector<std::uint64_t>& cut, int batch_size,
+               ProbeEstimate& e) {
+  const auto nb = static_cast<double>(means.size());
+  Rgb m = Rgb::Zero();
+  for (const Rgb& v : means) m += v;
+  m /= nb;
+  Rgb var = Rgb::Zero();
+  for (const Rgb& v : means) var += (v - m).square();
+  var /= (nb - 1);
+  e.irradiance = m;
+  e.std_error = (var / nb).sqrt();
+  e.samples = means.size() * static_cast<std::uint64_t>(batch_size);
+  e.truncated = 0;
+  for (const std::uint64_t t : cut) e.truncated += t;
+}
+
+}  // namespace
+
 ReferenceResult PathTracer::estimate(std::span<const Probe> probes, const PathTracerOptions& o,
                                      const ReferenceProgressFn& progress) const {
   if (!(o.rel_error > 0) || !std::isfinite(o.rel_error))
@@ -246,20 +268,8 @@ ReferenceResult PathTracer::estimate(std::span<const Probe> probes, const PathTr
     // Statistics, in batch order (deterministic).
     Rgb floor_sum = Rgb::Zero();
     for (std::size_t i = 0; i < np; ++i) {
-      ProbeEstimate& e = res.probes[i];
-      const auto nb = static_cast<double>(means[i].size());
-      Rgb m = Rgb::Zero();
-      for (const Rgb& v : means[i]) m += v;
-      m /= nb;
-      Rgb var = Rgb::Zero();
-      for (const Rgb& v : means[i]) var += (v - m).square();
-      var /= (nb - 1);
-      e.irradiance = m;
-      e.std_error = (var / nb).sqrt();
-      e.samples = means[i].size() * static_cast<std::uint64_t>(o.batch_size);
-      e.truncated = 0;
-      for (const std::uint64_t t : cut[i]) e.truncated += t;
-      floor_sum += m.abs();
+      summarise(means[i], cut[i], o.batch_size, res.probes[i]);
+      floor_sum += res.probes[i].irradiance.abs();
     }
     res.floor = o.abs_floor > 0
                     ? Rgb::Constant(o.abs_floor)
