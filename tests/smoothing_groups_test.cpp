@@ -78,6 +78,23 @@ TEST(SmoothingGroups, ManyLeavesAtAPointGroupAsEveryPairSays) {
   }
 }
 
+// The three faces of a box's corner, each a fan of slivers from it: three groups, and no
+// comparison of the leaves of two faces (90 degrees apart) one by one (3 x 10^8 here).
+TEST(SmoothingGroups, ABoxCornerOfFansIsThreeGroups) {
+  const std::size_t per_face = 10000;
+  std::vector<std::uint32_t> material(3 * per_face, 1);
+  std::vector<Vec3> normal;
+  for (const Vec3& n : {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)})
+    normal.insert(normal.end(), per_face, n);
+  std::vector<std::size_t> group;
+  smoothing_groups(material, normal, kMinCos, group);
+  for (std::size_t i = 0; i < group.size(); ++i)
+    ASSERT_EQ(group[i], group[i / per_face * per_face]);
+  EXPECT_NE(group[0], group[per_face]);
+  EXPECT_NE(group[per_face], group[2 * per_face]);
+  EXPECT_NE(group[0], group[2 * per_face]);
+}
+
 TEST(SmoothingGroups, AFanOfSliversIsOneGroup) {
   std::vector<std::uint32_t> material(100000, 1);
   std::vector<Vec3> normal(100000, Vec3(0, 1, 0));

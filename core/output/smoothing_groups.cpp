@@ -62,6 +62,21 @@ void smoothing_groups(std::span<const std::uint32_t> material, std::span<const V
     std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
       return a.key != b.key ? a.key < b.key : a.leaf < b.leaf;
     });
+    // Whether no normal of one cell can be within the chord of one of the other's: the
+    // cubes are farther apart than that (the three faces of a box corner, each a fan of
+    // slivers, were compared leaf by leaf).
+    const auto apart = [&](const Entry& a, const Entry& b) {
+      if (a.key[1] == std::numeric_limits<std::int64_t>::min() ||
+          b.key[1] == std::numeric_limits<std::int64_t>::min())
+        return false;
+      double gap2 = 0;
+      for (int c = 1; c < 4; ++c) {
+        const double cells_between =
+            std::max<double>(0, static_cast<double>(std::abs(a.key[c] - b.key[c])) - 1);
+        gap2 += cells_between * cells_between;
+      }
+      return gap2 * side * side > chord * chord;
+    };
     // Cells: runs of one key, each joined at once (a lone cell holds one leaf).
     std::vector<std::size_t> begin;
     for (std::size_t k = 0; k < n; ++k) {
@@ -80,6 +95,7 @@ void smoothing_groups(std::span<const std::uint32_t> material, std::span<const V
         const Entry& eb = entries[begin[b]];
         if (ea.key[0] != eb.key[0]) break;  // sorted: no later cell has a's material
         if (root_of(parent, ea.leaf) == root_of(parent, eb.leaf)) continue;
+        if (apart(ea, eb)) continue;
         bool found = false;
         for (std::size_t i = begin[a]; i < begin[a + 1] && !found; ++i)
           for (std::size_t j = begin[b]; j < begin[b + 1] && !found; ++j)
