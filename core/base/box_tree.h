@@ -50,6 +50,8 @@ class BoxTree {
   }
 
   [[nodiscard]] std::size_t size() const { return ids_.size(); }
+  /// Box i as given.
+  [[nodiscard]] const Aabb& box(std::uint32_t i) const { return boxes_[i]; }
 
  private:
   static constexpr std::uint32_t kLeaf = 0;  // the root is node 0, never a child

@@ -1,5 +1,6 @@
 #include "core/raycast/face_crossings.h"
 
+#include "core/base/box_tree.h"
 #include "core/raycast/ray_scene.h"
 #include "core/scene/scene.h"
 
@@ -117,13 +118,23 @@ bool crossed_inside(const RayScene& rays, const Scene& scene, std::span<const Ve
   const std::uint32_t twin = rays.twin(own);
   int tested = 0;
   bool crossed = false;
-  rays.for_each_polygon_near(centre, radius + 2 * tolerance, [&](std::uint32_t other) {
+  const BoxTree& boxes = rays.polygon_boxes();
+  boxes.for_each_near(centre, radius + 2 * tolerance, [&](std::uint32_t other) {
     if (other == own || other == twin) return true;
+    if (++tested > kCrossingCandidates) {
+      crossed = true;
+      return false;
+    }
+    // A polygon whose box lies wholly on one side of the piece's plane cannot reach it.
+    const Aabb& b = boxes.box(other);
+    const double mid = f.n.dot(b.center() - f.corner[0]);
+    const double half = f.n.cwiseAbs().dot(0.5 * (b.hi - b.lo));
+    if (mid - half > tolerance || mid + half < -tolerance) return true;
     const Face& face = scene.faces[other];
     g.clear();
     for (std::uint32_t c = 0; c < face.count; ++c)
       g.push_back(scene.vertices[scene.indices[face.first + c]]);
-    crossed = ++tested > kCrossingCandidates || reaches_into(f, g, tolerance);
+    crossed = reaches_into(f, g, tolerance);
     return !crossed;
   });
   return crossed;

@@ -403,6 +403,8 @@ bool RayScene::back_coincides(const Vec3& origin, const Vec3& dir, double t,
   return twin && normal(twin->prim).dot(dir) > 0;
 }
 
+const BoxTree& RayScene::polygon_boxes() const { return impl_->near; }
+
 void RayScene::for_each_polygon_near(const Vec3& centre, double radius,
                                      const std::function<bool(std::uint32_t)>& visit) const {
   impl_->near.for_each_near(centre, radius, visit);

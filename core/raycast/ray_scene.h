@@ -24,6 +24,8 @@
 
 namespace hrad {
 
+class BoxTree;
+
 struct Scene;
 
 /// First hit of a ray.
@@ -168,6 +170,9 @@ class RayScene {
   /// false; the search ends there (core/base/box_tree.h). Thread-safe.
   void for_each_polygon_near(const Vec3& centre, double radius,
                              const std::function<bool(std::uint32_t)>& visit) const;
+  /// The tree of the polygons' bounding boxes (world coordinates) behind
+  /// for_each_polygon_near(), for callers that search it with their own visitor inline.
+  [[nodiscard]] const BoxTree& polygon_boxes() const;
 
   /// Rays cast so far by occluded() and intersect() together (segments too short to
   /// test are not counted). Counted in per-thread-striped relaxed atomics, so the
