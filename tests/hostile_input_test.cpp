@@ -15,8 +15,40 @@ using hrad::test::contains;
 using hrad::test::Result;
 namespace fs = std::filesystem;
 
+std::string box_obj(const std::string& scale, const std::string& mtl);
+std::vector<double> probe_irradiance(const fs::path& csv_file);
+
 class HostileInput : public hrad::test::Cli {
  protected:
+  /// A closed unit room lit by one wall (room.obj), six probes on its walls (p.txt), and the
+  /// room `gap` above a 200 x 200 ground that faces down, away from it (ground.obj).
+  void write_room_above_ground(const std::string& gap) const {
+    write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
+    write("p.txt",
+          "0.3 0.6 0 0 0 1\n0.7 0.2 1 0 0 -1\n1 0.4 0.5 -1 0 0\n0.5 1 0.8 0 -1 0\n"
+          "0.9 0.9 0 0 0 1\n0.1 0.5 1 0 0 -1\n");
+    write("room.obj", box_obj("", "box.mtl"));
+    std::string ground = box_obj("", "box.mtl") + "usemtl wall\n";
+    for (const char* xy : {"-100 -100", "100 -100", "100 100", "-100 100"})
+      ground += std::string("v ") + xy + " -" + gap + "\n";
+    write("ground.obj", ground + "f 12 11 10 9\n");
+  }
+
+  /// Expects `n` probes in each of run/, alone/ and ref/ (a reference), those of run/
+  /// within `run_share` and those of ref/ within `ref_share` of alone/'s.
+  void expect_like_alone(std::size_t n, double run_share, double ref_share) const {
+    const std::vector<double> run = probe_irradiance(dir_ / "run" / "probes.csv"),
+                              alone = probe_irradiance(dir_ / "alone" / "probes.csv"),
+                              ref = probe_irradiance(dir_ / "ref" / "probes.csv");
+    ASSERT_EQ(run.size(), n);
+    ASSERT_EQ(alone.size(), n);
+    ASSERT_EQ(ref.size(), n);
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_NEAR(run[i], alone[i], run_share * alone[i]) << "probe " << i;
+      EXPECT_NEAR(ref[i], alone[i], ref_share * alone[i]) << "probe " << i;
+    }
+  }
+
   /// Runs `hrad ARGS` in the background, sends it SIGNAL (INT or TERM) after
   /// `after` seconds, `times` times at once, and waits for it.
   Result interrupted(const std::string& args, const char* signal, double after,
@@ -179,16 +211,7 @@ TEST_F(HostileInput, FarOffGeometryIsReported) {
   EXPECT_TRUE(contains(hrad::test::read_text(dir_ / "run" / "stats.json"), "remove the far-off"));
   ASSERT_EQ(hrad("solve room.obj --probes p.txt --out alone --quiet").status, 0);
   ASSERT_EQ(hrad("reference box.obj --probes p.txt --rel-error 0.01 --out ref --quiet").status, 0);
-  const std::vector<double> far = probe_irradiance(dir_ / "run" / "probes.csv"),
-                            alone = probe_irradiance(dir_ / "alone" / "probes.csv"),
-                            traced = probe_irradiance(dir_ / "ref" / "probes.csv");
-  ASSERT_EQ(far.size(), 4u);
-  ASSERT_EQ(alone.size(), 4u);
-  ASSERT_EQ(traced.size(), 4u);
-  for (std::size_t i = 0; i < far.size(); ++i) {
-    EXPECT_NEAR(far[i], alone[i], 0.005 * alone[i]) << "probe " << i;
-    EXPECT_NEAR(traced[i], alone[i], 0.05 * alone[i]) << "probe " << i;  // 1 % standard error
-  }
+  expect_like_alone(4, 0.005, 0.05);  // the reference: 1 % standard error
   write("box.obj", box_obj(""));
   r = hrad("solve box.obj --iterations 1 --out run2 --quiet");
   EXPECT_FALSE(contains(r.err, "98 %")) << r.err;
@@ -208,14 +231,7 @@ TEST_F(HostileInput, FarOffGeometryIsReported) {
 // and its probes came out up to 9 % high. When min_area stops much of what the oracle
 // asks for, the run says so and the oracle may then refine any polygon a few levels deep.
 TEST_F(HostileInput, ALargeGroundDoesNotStarveARoom) {
-  write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
-  write("p.txt",
-        "0.3 0.6 0 0 0 1\n0.7 0.2 1 0 0 -1\n1 0.4 0.5 -1 0 0\n0.5 1 0.8 0 -1 0\n"
-        "0.9 0.9 0 0 0 1\n0.1 0.5 1 0 0 -1\n");
-  write("room.obj", box_obj(""));
-  write("ground.obj", box_obj("") +
-                          "usemtl wall\nv -100 -100 -0.01\nv 100 -100 -0.01\nv 100 100 -0.01\n"
-                          "v -100 100 -0.01\nf 12 11 10 9\n");
+  write_room_above_ground("0.01");
   Result r = hrad("solve ground.obj --probes p.txt --out run --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(contains(r.err,
@@ -244,28 +260,12 @@ TEST_F(HostileInput, ALargeGroundDoesNotStarveARoom) {
 // ground's back for a solid it stood in. Its probes came out 8-17 % dark, in the solver
 // and in the reference alike; touching is now judged at each polygon's own size.
 TEST_F(HostileInput, ARoomJustAboveALargeGroundIsNotInsideIt) {
-  write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
-  write("p.txt",
-        "0.3 0.6 0 0 0 1\n0.7 0.2 1 0 0 -1\n1 0.4 0.5 -1 0 0\n0.5 1 0.8 0 -1 0\n"
-        "0.9 0.9 0 0 0 1\n0.1 0.5 1 0 0 -1\n");
-  write("room.obj", box_obj(""));
-  write("ground.obj", box_obj("") +
-                          "usemtl wall\nv -100 -100 -0.005\nv 100 -100 -0.005\nv 100 100 -0.005\n"
-                          "v -100 100 -0.005\nf 12 11 10 9\n");
+  write_room_above_ground("0.005");
   ASSERT_EQ(hrad("solve room.obj --probes p.txt --out alone --quiet").status, 0);
   ASSERT_EQ(hrad("solve ground.obj --probes p.txt --out run --quiet").status, 0);
   Result r = hrad("reference ground.obj --probes p.txt --rel-error 0.01 --out ref --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::vector<double> alone = probe_irradiance(dir_ / "alone" / "probes.csv"),
-                            ground = probe_irradiance(dir_ / "run" / "probes.csv"),
-                            ref = probe_irradiance(dir_ / "ref" / "probes.csv");
-  ASSERT_EQ(alone.size(), 6u);
-  ASSERT_EQ(ground.size(), 6u);
-  ASSERT_EQ(ref.size(), 6u);
-  for (std::size_t i = 0; i < alone.size(); ++i) {
-    EXPECT_NEAR(ground[i], alone[i], 0.01 * alone[i]) << "probe " << i;
-    EXPECT_NEAR(ref[i], alone[i], 0.04 * alone[i]) << "probe " << i;  // 1 % noise, 1 % error
-  }
+  expect_like_alone(6, 0.01, 0.04);  // the reference: 1 % standard error
 }
 
 // The reference tracer reported finite, "converged" values (E about 4000 at 0.3 %) for
