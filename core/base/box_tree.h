@@ -63,7 +63,7 @@ class BoxTree {
   };
 
   // Builds the node of ids_[begin, end) and those below; returns its index. Halves
-  // split at the median box centre along the node's longest side, so the depth is
+  // split at the median box centre along the axis its centres spread most, so the depth is
   // about log2(n / kLeafBoxes) + 1 and a query's stack holds at most one node a level
   // (plus one) of its 64.
   std::uint32_t build(std::size_t begin, std::size_t end);

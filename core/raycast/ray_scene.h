@@ -157,9 +157,10 @@ class RayScene {
   /// fractions' contact tests (core/transport/open_fraction.cpp).
   static constexpr double kContactReach = 16 * kEndpointEpsilon;
   /// How far (world units) a surface may lie from `poly` and still count as touching it
-  /// (back_coincides(), the open fractions' facing faces): 3 kEndpointEpsilon scale(),
-  /// or kCoincidentShare of the polygon's own bounding-box diagonal where that is less,
-  /// but at least the single-precision resolution where it lies. Tolerances relative
+  /// (back_coincides(), the open fractions' facing faces): kCoincidentShare of the
+  /// polygon's own bounding-box diagonal, or the single-precision resolution where it
+  /// lies if that is more, but never more than 3 kEndpointEpsilon scale(), the reach
+  /// every polygon had before. Tolerances relative
   /// to the whole scene took a room's floor 5 mm above a 200 x 200 ground (a scale()
   /// of 283) for the inside of a solid: its probes came out 8-17 % dark, in the
   /// solver and in `hrad reference` alike.
