@@ -132,7 +132,7 @@ struct RayScene::Impl {
   std::vector<std::uint32_t> twin;
   // find_face_contacts over the polygons, at kContactReach * diagonal.
   std::vector<std::uint8_t> contact;
-  // The polygons' bounds in world coordinates, for for_each_polygon_near().
+  // The polygons' bounds in world coordinates, for polygon_boxes().
   BoxTree near;
   // coincidence() of each polygon, world units.
   std::vector<double> coincide;
@@ -173,8 +173,14 @@ struct RayScene::Impl {
   /// frame: elsewhere every point lies within 1/2 of the centre, where it never is).
   double exclusion(const Vec3& a, const Vec3& b) const {
     if (!local) return epsilon;
+    return std::max(epsilon, resolution(a, b));
+  }
+
+  // What single precision tells apart near the points a and b of the normalised frame:
+  // kPrecisionUlps units in the last place of the larger's largest coordinate.
+  static double resolution(const Vec3& a, const Vec3& b) {
     const double far = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
-    return std::max(epsilon, kPrecisionUlps * far * std::numeric_limits<float>::epsilon());
+    return kPrecisionUlps * far * std::numeric_limits<float>::epsilon();
   }
 
   /// A context that ignores polygons a and b and their twins, and with `front_of_twins`
@@ -220,9 +226,8 @@ struct RayScene::Impl {
     const double reach = 3 * kEndpointEpsilon * tolerance;
     for (std::size_t i = 0; i < bounds.size(); ++i) {
       const Aabb& b = bounds[i];
-      const double far = std::max(((b.lo - centre) * inv_scale).cwiseAbs().maxCoeff(),
-                                  ((b.hi - centre) * inv_scale).cwiseAbs().maxCoeff());
-      const double noise = kPrecisionUlps * far * std::numeric_limits<float>::epsilon() / inv_scale;
+      const double noise =
+          resolution((b.lo - centre) * inv_scale, (b.hi - centre) * inv_scale) / inv_scale;
       coincide[i] = std::min(reach, std::max(noise, kCoincidentShare * b.diagonal()));
     }
   }
@@ -404,11 +409,6 @@ bool RayScene::back_coincides(const Vec3& origin, const Vec3& dir, double t,
 }
 
 const BoxTree& RayScene::polygon_boxes() const { return impl_->near; }
-
-void RayScene::for_each_polygon_near(const Vec3& centre, double radius,
-                                     const std::function<bool(std::uint32_t)>& visit) const {
-  impl_->near.for_each_near(centre, radius, visit);
-}
 
 std::uint64_t RayScene::rays_cast() const {
   std::uint64_t n = 0;

@@ -16,7 +16,6 @@
 #include "core/base/geometry.h"
 
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -166,13 +165,9 @@ class RayScene {
   /// solver and in `hrad reference` alike.
   [[nodiscard]] double coincidence(std::uint32_t poly) const;
   static constexpr double kCoincidentShare = 1e-3;
-  /// Calls visit(polygon) once for every polygon whose bounding box reaches the sphere of
-  /// `radius` around `centre` (a superset of those the sphere meets), until it returns
-  /// false; the search ends there (core/base/box_tree.h). Thread-safe.
-  void for_each_polygon_near(const Vec3& centre, double radius,
-                             const std::function<bool(std::uint32_t)>& visit) const;
-  /// The tree of the polygons' bounding boxes (world coordinates) behind
-  /// for_each_polygon_near(), for callers that search it with their own visitor inline.
+  /// The polygons' bounding boxes (world coordinates, polygon i as box i) in a tree that
+  /// finds those reaching a sphere and stops when its visitor says so
+  /// (core/base/box_tree.h). Thread-safe.
   [[nodiscard]] const BoxTree& polygon_boxes() const;
 
   /// Rays cast so far by occluded() and intersect() together (segments too short to

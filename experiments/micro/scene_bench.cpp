@@ -6,7 +6,7 @@
 //                 mostly free; Arg 1). Was tests/ray_scene_test.cpp's
 //                 ThroughputOfOcclusionRays (bound: 1e5 rays/s).
 //  RaySceneBuild: building the Embree scene of those 10k triangles.
-//  PolygonsNearAFan: RayScene::for_each_polygon_near at 1,000 points of a disc of N
+//  PolygonsNearAFan: RayScene::polygon_boxes() searched at 1,000 points of a disc of N
 //                 corners (one polygon, a fan of N - 2 slivers; Arg N) beside a square,
 //                 each search stopping at the first polygon but the disc, as the face
 //                 crossings' searches stop (items/s: searches). Embree's point query went
@@ -20,6 +20,7 @@
 #include <random>
 #include <vector>
 
+#include "core/base/box_tree.h"
 #include "core/raycast/ray_scene.h"
 #include "core/scene/builtin_scenes.h"
 
@@ -105,7 +106,7 @@ void BM_PolygonsNearAFan(benchmark::State& state) {
   std::size_t found = 0;
   for (auto _ : state)
     for (const Vec3& p : at)
-      rs.for_each_polygon_near(p, 3, [&](std::uint32_t poly) {
+      rs.polygon_boxes().for_each_near(p, 3, [&](std::uint32_t poly) {
         if (poly == 0) return true;
         ++found;
         return false;
