@@ -10,6 +10,8 @@
 #include <random>
 #include <stdexcept>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace hrad {
 namespace {
@@ -285,30 +287,21 @@ TEST(RayScene, FromSceneUsesFaceIndices) {
 /// An axis-aligned box [lo, hi] of six quads facing out; returns its first face (-x;
 /// then +x, -y, +y, -z, +z).
 std::uint32_t add_box(Soup& s, const Vec3& lo, const Vec3& hi) {
-  const std::uint32_t first = s.add({{lo.x(), lo.y(), lo.z()},
-                                     {lo.x(), lo.y(), hi.z()},
-                                     {lo.x(), hi.y(), hi.z()},
-                                     {lo.x(), hi.y(), lo.z()}});
-  s.add({{hi.x(), lo.y(), lo.z()},
-         {hi.x(), hi.y(), lo.z()},
-         {hi.x(), hi.y(), hi.z()},
-         {hi.x(), lo.y(), hi.z()}});
-  s.add({{lo.x(), lo.y(), lo.z()},
-         {hi.x(), lo.y(), lo.z()},
-         {hi.x(), lo.y(), hi.z()},
-         {lo.x(), lo.y(), hi.z()}});
-  s.add({{lo.x(), hi.y(), lo.z()},
-         {lo.x(), hi.y(), hi.z()},
-         {hi.x(), hi.y(), hi.z()},
-         {hi.x(), hi.y(), lo.z()}});
-  s.add({{lo.x(), lo.y(), lo.z()},
-         {lo.x(), hi.y(), lo.z()},
-         {hi.x(), hi.y(), lo.z()},
-         {hi.x(), lo.y(), lo.z()}});
-  s.add({{lo.x(), lo.y(), hi.z()},
-         {hi.x(), lo.y(), hi.z()},
-         {hi.x(), hi.y(), hi.z()},
-         {lo.x(), hi.y(), hi.z()}});
+  const auto first = static_cast<std::uint32_t>(s.polys.size());
+  for (int a = 0; a < 3; ++a) {
+    // Corners around the face in the plane of axes b and c (b x c = +a), reversed on the
+    // low side so that each face's normal points out.
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (const bool high : {false, true}) {
+      std::vector<Vec3> q(4, high ? hi : lo);
+      for (int k = 0; k < 4; ++k) {
+        q[k][b] = k == 1 || k == 2 ? hi[b] : lo[b];
+        q[k][c] = k >= 2 ? hi[c] : lo[c];
+      }
+      if (!high) std::swap(q[1], q[3]);
+      s.add(q);
+    }
+  }
   return first;
 }
 
