@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <type_traits>
 
@@ -215,7 +217,11 @@ class PassState {
                                           (e.child_span().empty() ? kLeaf : 0) |
                                           (e.parent && !parent_cluster && !cluster ? kChain : 0) |
                                           (parent_cluster ? kUnderCluster : 0));
-      d.xslot = kNone;
+      // 0 marks a member of a cluster with exposures (numbered below); reading its
+      // parent's ClusterLight here, in parallel, spares the serial loop the cache misses
+      // (on the cabin, 0.07 s a build on one thread).
+      const bool exposed = e.parent && e.parent->light && !e.parent->light->exposure.empty();
+      d.xslot = exposed ? 0 : kNone;
     }
     std::uint32_t kids = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -227,8 +233,8 @@ class PassState {
     kids_.resize(kids);
     // The members' exposures within their clusters (cluster_exposure.h), in pass order.
     for (std::size_t i = 0; i < n; ++i) {
+      if (node_[i].xslot == kNone) continue;
       const Element& e = *l.order[i];
-      if (!e.parent || !e.parent->light || e.parent->light->exposure.empty()) continue;
       node_[i].xslot = static_cast<std::uint32_t>(xout_.size());
       const std::array<float, 6>& x = exposure_within_parent(e);
       // What the pull weighs the member's light by along each axis direction: its
@@ -572,14 +578,23 @@ V channels(const Rgb& x) {
 // Every element's links as a sparse matrix over value slots, for the propagation's
 // gather. Slot i holds the radiosity of elements[i]; a cluster has six more, the mean
 // radiosity of its members facing each axis direction (ClusterLight's leaving /
-// open_area). A link from a surface is one entry, its transport on the source's slot.
-// A link from a cluster along d is up to three, on the slots of the directions d is
-// seen along, weighted by |d_i| open_area / their sum: the same value as
-// radiosity_towards gives. An element's row is the irradiance its links deliver; with
-// cosine cluster receivers a cluster has six rows instead, the irradiance arriving
-// along each axis direction (ClusterLight::arriving: each link's irradiance on a unit
-// surface facing its source, |d_i| of it along axis i, as gather_one splits it), so a
-// link there is up to nine entries. Links and open areas do not change during a
+// open_area). An element's row is the irradiance its links deliver; with cosine
+// cluster receivers a cluster's row is six sums instead, the irradiance arriving along
+// each axis direction (ClusterLight::arriving: each link's irradiance on a unit surface
+// facing its source, |d_i| of it along axis i, as gather_one splits it). A link is one
+// entry of one of three kinds:
+//  Entry   a surface's radiosity (or a cluster's mean, when no member faces the
+//          receiver) times its transport, into a row gathered whole: 8 bytes;
+//  Triple  three weights on three slots in a row gathered whole: a cluster source seen
+//          along d, on the slots of the directions d is seen along, weighted by
+//          |d_i| open_area / their sum (the value radiosity_towards gives); or, into a
+//          cosine cluster receiver, one slot split along three of its axis
+//          directions: 16 bytes;
+//  Fat     a cluster source seen along d (three slots) into a cosine cluster receiver,
+//          split along three of its directions: 32 bytes.
+// (With a plain entry per slot and row, a link between two clusters was up to nine
+// entries, 72 bytes and nine reads of a value: on the lab they were 22 % of the links
+// and over half of the 3.3 M entries.) Links and open areas do not change during a
 // propagation, so the matrix is built once per propagation, and each sweep's gather
 // streams over it and a small dense array of values instead of reading every link's
 // source element (456 bytes apart; for a cluster its ClusterLight too). Weights are
@@ -594,22 +609,21 @@ class GatherMatrix {
   // left empty.
   GatherMatrix(const std::vector<Element*>& elements, int threads, bool cosine,
                GatherMatrix* previous = nullptr)
-      : cosine_(cosine), first_row_(elements.size() + 1, 0) {
+      : cosine_(cosine) {
     measure(elements, threads);
     Reuse reuse = plan_reuse(previous);
     // One pass over the links (each reads its source's element, a cache miss): a chunk
-    // of elements collects its entries row by row in a thread's scratch lists (a kept
-    // element's rows copied), then keeps exact-size copies. (Counting the entries first,
-    // to fill one array, read every source twice.) The links' transport is summed on the
-    // way (transport()).
+    // of elements collects its rows in a thread's scratch chunk (a kept element's rows
+    // copied), then keeps exact-size copies. The links' transport is summed on the way
+    // (transport()).
     const auto chunks = static_cast<std::ptrdiff_t>(chunks_.size());
     std::size_t kept = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : kept)
     {
-      std::vector<std::vector<Entry>> rows;  // scratch: one chunk's rows
+      Chunk scratch;
 #pragma omp for schedule(dynamic, 1)
       for (std::ptrdiff_t c = 0; c < chunks; ++c)
-        kept += fill_chunk(static_cast<std::size_t>(c), elements, reuse, rows);
+        kept += fill_chunk(static_cast<std::size_t>(c), elements, reuse, scratch);
     }
     reused_ = kept;
     if (previous) *previous = GatherMatrix();
@@ -649,16 +663,27 @@ class GatherMatrix {
                                  : channels<V>(s.B(i));
   }
 
-  /// Row k of the element at position i times `values`: with one row per element
-  /// (k = 0), the irradiance its own links deliver; for a cosine cluster receiver, what
-  /// arrives along axis direction k.
+  /// The row of the element at position i times `values`: the irradiance its own links
+  /// deliver (not for a cosine cluster receiver: gather_axes).
   template <class V>
-  [[nodiscard]] V gather(std::size_t i, const std::vector<V>& values, std::size_t k = 0) const {
+  [[nodiscard]] V gather(std::size_t i, const std::vector<V>& values) const {
     V g = channels<V>(Rgb::Zero());
-    const auto [from, to] = row(i, k);
-    for (const Entry* entry = from; entry != to; ++entry)
-      g += static_cast<double>(entry->weight) * values[entry->slot];
+    const Row r = row(i);
+    for (const Entry& x : r.plain) g += static_cast<double>(x.weight) * values[x.slot];
+    for (const Triple& x : r.triples) g += towards(x.slot, x.weight, values);
     return g;
+  }
+
+  /// For a cosine cluster receiver at position i: what its links deliver along each
+  /// axis direction.
+  template <class V>
+  void gather_axes(std::size_t i, const std::vector<V>& values, std::array<V, 6>& arriving) const {
+    arriving.fill(channels<V>(Rgb::Zero()));
+    const Row r = row(i);
+    for (const Triple& x : r.triples)
+      spread(x.slot >> kSlotBits, x.weight, values[x.slot & kSlotMask], arriving);
+    for (const Fat& x : r.fats)
+      spread(x.signs, x.receiver, towards(x.slot, x.source, values), arriving);
   }
 
   /// Whether the rows of the element at position i are the six axis directions (a
@@ -691,20 +716,73 @@ class GatherMatrix {
       dir[static_cast<std::size_t>(2 * a + (d[a] < 0))] += std::abs(d[a]) * facing;
   }
 
-  [[nodiscard]] std::size_t rows_of(const Element& e) const {
-    return cosine_ && e.is_cluster() ? 6 : 1;
-  }
-
   GatherMatrix() = default;  // empty: what a matrix whose rows were taken is left as
 
+  // A slot takes kSlotBits of an entry's 32; the other three say which of each axis's
+  // two directions it means (bit kSlotBits + a for axis a: the negative one).
+  static constexpr int kSlotBits = 29;
+  static constexpr std::uint32_t kSlotMask = (std::uint32_t{1} << kSlotBits) - 1;
   struct Entry {
-    std::uint32_t slot;  // of the value it weighs
+    std::uint32_t slot;
     float weight;
   };
-  // The rows of kChunk consecutive elements, the chunk's first row being its row 0.
+  struct Triple {
+    std::uint32_t slot;  // with sign bits: the source's (row gathered whole), or the receiver's
+    std::array<float, 3> weight;
+  };
+  struct Fat {
+    std::uint32_t slot;   // the source's first axis slot, with its sign bits
+    std::uint32_t signs;  // the receiver's: bit a for axis a
+    std::array<float, 3> source;
+    std::array<float, 3> receiver;
+  };
+  // The sign bits of d: bit a set where d_a < 0.
+  static std::uint32_t signs_of(const Vec3& d) {
+    return (d[0] < 0 ? 1u : 0u) | (d[1] < 0 ? 2u : 0u) | (d[2] < 0 ? 4u : 0u);
+  }
+  // A cluster's radiosity towards a direction: w[a] on the slot of axis a's direction
+  // that the sign bits name.
+  template <class V>
+  static V towards(std::uint32_t slot, const std::array<float, 3>& w,
+                   const std::vector<V>& values) {
+    const std::uint32_t base = slot & kSlotMask;
+    return static_cast<double>(w[0]) * values[base + ((slot >> kSlotBits) & 1u)] +
+           static_cast<double>(w[1]) * values[base + 2 + ((slot >> (kSlotBits + 1)) & 1u)] +
+           static_cast<double>(w[2]) * values[base + 4 + (slot >> (kSlotBits + 2))];
+  }
+  // Adds w[a] v to the direction of axis a that the sign bits name (2a: axis a's
+  // positive one, 2a + 1 its negative one).
+  template <class V>
+  static void spread(std::uint32_t signs, const std::array<float, 3>& w, const V& v,
+                     std::array<V, 6>& out) {
+    for (std::uint32_t a = 0; a < 3; ++a)
+      out[2 * a + ((signs >> a) & 1u)] += static_cast<double>(w[a]) * v;
+  }
+
+  // The rows of kChunk consecutive elements: element r's entries of kind k are
+  // [at[3 r + k], at[3 r + 3 + k]) of that kind's array (the three kinds' ends side by
+  // side: one line read per element; in three arrays the cabin's sweeps took 25 % longer).
   struct Chunk {
-    std::vector<std::uint32_t> row;  // entries of row r: entries[row[r] .. row[r + 1])
-    std::vector<Entry> entries;
+    std::vector<std::uint32_t> at;
+    std::vector<Entry> plain;
+    std::vector<Triple> triples;
+    std::vector<Fat> fats;
+    void clear() {
+      at.assign(3, 0);
+      plain.clear();
+      triples.clear();
+      fats.clear();
+    }
+    void end_row() {
+      at.push_back(static_cast<std::uint32_t>(plain.size()));
+      at.push_back(static_cast<std::uint32_t>(triples.size()));
+      at.push_back(static_cast<std::uint32_t>(fats.size()));
+    }
+  };
+  struct Row {
+    std::span<const Entry> plain;
+    std::span<const Triple> triples;
+    std::span<const Fat> fats;
   };
   static constexpr std::size_t kChunk = 128;
   static constexpr int kAhead = 8;
@@ -729,8 +807,8 @@ class GatherMatrix {
   };
   static constexpr std::uint32_t kNone = PassState::kNone;
 
-  // Rows, slots, links' and clusters' hashes of `elements` (read once, in parallel; the
-  // prefix sums run over dense arrays: axis_ holds 1 for a cluster until then).
+  // Slots, links' and clusters' hashes of `elements` (read once, in parallel; the
+  // prefix sum runs over a dense array: axis_ holds 1 for a cluster until then).
   void measure(const std::vector<Element*>& elements, int threads) {
     const auto n = static_cast<std::ptrdiff_t>(elements.size());
     order_.assign(elements.begin(), elements.end());
@@ -742,18 +820,18 @@ class GatherMatrix {
       const auto u = static_cast<std::size_t>(i);
       const Element& e = *elements[u];
       axis_[u] = e.is_cluster() ? 1 : 0;
-      first_row_[u + 1] = rows_of(e);
       links_hash_[u] = hash_links(e);
       if (e.is_cluster() && e.light) area_hash_[u] = hash_areas(*e.light);
     }
     std::size_t slot = elements.size();
     for (std::size_t i = 0; i < elements.size(); ++i) {
-      first_row_[i + 1] += first_row_[i];
       if (axis_[i] != 0) {
         axis_[i] = static_cast<std::uint32_t>(slot);
         slot += 6;
       }
     }
+    // Over half a billion slots is over 70 million elements, far more than memory holds.
+    if (slot > kSlotMask) throw std::length_error("propagation: too many elements for the gather");
     slots_ = slot;
   }
 
@@ -804,9 +882,9 @@ class GatherMatrix {
   }
 
   // The rows of chunk c (its elements' entries and sums); returns the elements that kept
-  // theirs. `rows`: the calling thread's scratch.
+  // theirs. `scratch`: the calling thread's.
   std::size_t fill_chunk(std::size_t c, const std::vector<Element*>& elements, Reuse& reuse,
-                         std::vector<std::vector<Entry>>& rows) {
+                         Chunk& scratch) {
     const std::size_t begin = c * kChunk;
     const std::size_t end = std::min(begin + kChunk, elements.size());
     if (reuse.in_place) {
@@ -815,18 +893,15 @@ class GatherMatrix {
         same += reuse.old->links_hash_[i] == links_hash_[i] ? 1 : 0;
       if (same == end - begin) return same;  // the chunk as it was
     }
-    const std::size_t first = first_row_[begin];
-    const std::size_t count = first_row_[end] - first;
-    if (rows.size() < count) rows.resize(count);
+    scratch.clear();
     std::size_t kept = 0;
     for (std::size_t i = begin; i < end; ++i) {
       const Element& e = *elements[i];
-      std::vector<Entry>* own = rows.data() + (first_row_[i] - first);
-      if (keep_rows(reuse, i, e, own)) {
+      if (keep_rows(reuse, i, e, scratch)) {
         ++kept;
+        scratch.end_row();
         continue;
       }
-      for (std::size_t k = 0; k < rows_of(e); ++k) own[k].clear();
       link_total_[i] = 0;
       if (by_axis(e)) arriving_[(axis_[i] - first_axis_slot()) / 6].fill(Rgb::Zero());
       // The sources' lines are asked for kAhead links before they are read.
@@ -839,10 +914,9 @@ class GatherMatrix {
           ++ahead;
         }
         add_transport(e, l, i);
-        entries(e, l, [&](std::size_t k, std::uint32_t slot_of, double w) {
-          own[k].push_back(Entry{slot_of, static_cast<float>(w)});
-        });
+        append(e, l, scratch);
       }
+      scratch.end_row();
     }
     if (reuse.readers) {  // done with old's rows: free the chunks no one else reads
       std::uint32_t last = kNone;
@@ -853,50 +927,55 @@ class GatherMatrix {
             reuse.old->chunks_[last] = Chunk{};
         }
     }
+    // Exact sizes (assign keeps an in-place chunk's storage where it is large enough).
     Chunk& chunk = chunks_[c];
-    chunk.row.assign(count + 1, 0);
-    for (std::size_t r = 0; r < count; ++r)
-      chunk.row[r + 1] = chunk.row[r] + static_cast<std::uint32_t>(rows[r].size());
-    chunk.entries.clear();
-    chunk.entries.reserve(chunk.row.back());
-    for (std::size_t r = 0; r < count; ++r)
-      chunk.entries.insert(chunk.entries.end(), rows[r].begin(), rows[r].end());
+    chunk.at.assign(scratch.at.begin(), scratch.at.end());
+    chunk.plain.reserve(scratch.plain.size());
+    chunk.plain.assign(scratch.plain.begin(), scratch.plain.end());
+    chunk.triples.reserve(scratch.triples.size());
+    chunk.triples.assign(scratch.triples.begin(), scratch.triples.end());
+    chunk.fats.reserve(scratch.fats.size());
+    chunk.fats.assign(scratch.fats.begin(), scratch.fats.end());
     return kept;
   }
 
   // Whether the element e at position i keeps its rows and sums from reuse.old (see
-  // Reuse); if so its rows are written into own[0..rows) and its sums set.
-  bool keep_rows(const Reuse& reuse, std::size_t i, const Element& e, std::vector<Entry>* own) {
+  // Reuse); if so its rows are appended to `out` and its sums set.
+  bool keep_rows(const Reuse& reuse, std::size_t i, const Element& e, Chunk& out) {
     if (!reuse.old) return false;
-    const std::size_t rows = rows_of(e);
     if (reuse.in_place) {  // its rows and sums are in this matrix's storage already
       if (reuse.old->links_hash_[i] != links_hash_[i]) return false;
-      for (std::size_t k = 0; k < rows; ++k) {
-        const auto [from, to] = row(i, k);
-        own[k].assign(from, to);
-      }
+      append_row(row(i), nullptr, out);
       return true;
     }
     const GatherMatrix& o = *reuse.old;
     const std::uint32_t p = reuse.old_of[i];
     if (p == kNone || o.links_hash_[p] != links_hash_[i]) return false;
     if (by_axis(e) && o.area_hash_[p] != area_hash_[i]) return false;
-    for (std::size_t k = 0; k < rows; ++k) {
-      const auto [from, to] = o.row(p, k);
-      for (const Entry* x = from; x != to; ++x)
-        if (reuse.slot_of[x->slot] == kNone) return false;
-    }
-    for (std::size_t k = 0; k < rows; ++k) {
-      const auto [from, to] = o.row(p, k);
-      own[k].clear();
-      for (const Entry* x = from; x != to; ++x)
-        own[k].push_back(Entry{reuse.slot_of[x->slot], x->weight});
-    }
+    const Row r = o.row(p);
+    const auto gone = [&](std::uint32_t slot) { return reuse.slot_of[slot & kSlotMask] == kNone; };
+    if (std::any_of(r.plain.begin(), r.plain.end(), [&](const Entry& x) { return gone(x.slot); }) ||
+        std::any_of(r.triples.begin(), r.triples.end(),
+                    [&](const Triple& x) { return gone(x.slot); }) ||
+        std::any_of(r.fats.begin(), r.fats.end(), [&](const Fat& x) { return gone(x.slot); }))
+      return false;
+    append_row(r, &reuse.slot_of, out);
     link_total_[i] = o.link_total_[p];
     if (by_axis(e))
       arriving_[(axis_[i] - first_axis_slot()) / 6] =
           o.arriving_[(o.axis_[p] - o.first_axis_slot()) / 6];
     return true;
+  }
+
+  // Appends row r to `out`, its slots renumbered by slot_of (null: as they are).
+  static void append_row(const Row& r, const std::vector<std::uint32_t>* slot_of, Chunk& out) {
+    const auto renumber = [&](std::uint32_t slot) {
+      return slot_of ? ((*slot_of)[slot & kSlotMask] | (slot & ~kSlotMask)) : slot;
+    };
+    for (const Entry& x : r.plain) out.plain.push_back(Entry{renumber(x.slot), x.weight});
+    for (const Triple& x : r.triples) out.triples.push_back(Triple{renumber(x.slot), x.weight});
+    for (const Fat& x : r.fats)
+      out.fats.push_back(Fat{renumber(x.slot), x.signs, x.source, x.receiver});
   }
 
   // A hash of e's links as a set: each one's source and the bits of its form factor and
@@ -928,69 +1007,75 @@ class GatherMatrix {
     return h;
   }
 
-  // Calls emit(row k of e, slot, weight) for each entry of link l at receiver e.
-  template <class Emit>
-  void entries(const Element& e, const Link& l, const Emit& emit) const {
-    if (rows_of(e) == 1) {
-      source_entries(e, l, [&](std::uint32_t c, double w) { emit(0, c, w); });
+  // Appends link l of the receiver e to `out` as one entry (see the class comment).
+  void append(const Element& e, const Link& l, Chunk& out) const {
+    const Element& s = *l.source;
+    const double t = l.transport();
+    // The source's side: a cluster shows e the mean of its members facing e along each
+    // axis, weighted by |d_a| times their exposed area (radiosity_towards); with none
+    // facing e, its mean.
+    std::uint32_t slot = s.index;
+    std::array<float, 3> source{};
+    bool directional = false;
+    if (s.is_cluster()) {
+      const Vec3 d = e.center - s.center;
+      const std::array<double, 6>& oa = s.light->exposed_area;
+      std::array<double, 3> part{};
+      double sum = 0;
+      for (std::size_t a = 0; a < 3; ++a) {
+        const auto i = static_cast<Eigen::Index>(a);
+        part[a] = std::abs(d[i]) * oa[2 * a + (d[i] < 0 ? 1 : 0)];
+        sum += part[a];
+      }
+      if (sum > 0) {
+        directional = true;
+        slot = axis_[s.index] | signs_of(d) << kSlotBits;
+        for (std::size_t a = 0; a < 3; ++a) source[a] = static_cast<float>(t * part[a] / sum);
+      }
+    }
+    if (!by_axis(e)) {
+      if (directional)
+        out.triples.push_back(Triple{slot, source});
+      else
+        out.plain.push_back(Entry{slot, static_cast<float>(t)});
       return;
     }
-    // Undo the link's mean cosine over the members' open area and split the
-    // irradiance along the axes, as gather_one does.
-    const Vec3 d = (l.source->center - e.center).normalized();
+    // A cosine cluster receiver: undo the link's mean cosine over the members' open
+    // area and split the irradiance along the axes, as gather_one does.
+    const Vec3 d = (s.center - e.center).normalized();
     const double projected = e.light->projected_open_area(d);
     if (!(projected > 0)) return;
     const double facing = e.area / projected;
-    source_entries(e, l, [&](std::uint32_t c, double w) {
-      for (int a = 0; a < 3; ++a)
-        if (d[a] != 0)
-          emit(static_cast<std::size_t>(2 * a + (d[a] < 0)), c, w * std::abs(d[a]) * facing);
-    });
-  }
-
-  // Calls emit(slot, weight) for each part of the radiosity link l's source shows e.
-  template <class Emit>
-  void source_entries(const Element& e, const Link& l, const Emit& emit) const {
-    const Element& s = *l.source;
-    const double t = l.transport();
-    if (!s.is_cluster()) {
-      emit(s.index, t);
+    if (directional) {
+      std::array<float, 3> receiver{};
+      for (std::size_t a = 0; a < 3; ++a)
+        receiver[a] = static_cast<float>(std::abs(d[static_cast<Eigen::Index>(a)]) * facing);
+      out.fats.push_back(Fat{slot, signs_of(d), source, receiver});
       return;
     }
-    const Vec3 d = e.center - s.center;
-    const std::array<double, 6>& oa = s.light->exposed_area;
-    std::array<double, 3> part{};
-    double sum = 0;
-    for (int a = 0; a < 3; ++a) {
-      part[static_cast<std::size_t>(a)] =
-          std::abs(d[a]) * oa[static_cast<std::size_t>(2 * a + (d[a] < 0))];
-      sum += part[static_cast<std::size_t>(a)];
-    }
-    if (!(sum > 0)) {  // no member faces d: the cluster's mean, as radiosity_towards
-      emit(s.index, t);
-      return;
-    }
-    for (int a = 0; a < 3; ++a)
-      if (part[static_cast<std::size_t>(a)] > 0)
-        emit(axis_[s.index] + static_cast<std::uint32_t>(2 * a + (d[a] < 0)),
-             t * part[static_cast<std::size_t>(a)] / sum);
+    std::array<float, 3> w{};
+    for (std::size_t a = 0; a < 3; ++a)
+      w[a] = static_cast<float>(t * std::abs(d[static_cast<Eigen::Index>(a)]) * facing);
+    out.triples.push_back(Triple{slot | signs_of(d) << kSlotBits, w});
   }
 
   // The first axis slot: one past the elements' own.
-  [[nodiscard]] std::size_t first_axis_slot() const { return first_row_.size() - 1; }
+  [[nodiscard]] std::size_t first_axis_slot() const { return order_.size(); }
 
-  // Row k of the element at position i: its entries' range.
-  [[nodiscard]] std::pair<const Entry*, const Entry*> row(std::size_t i, std::size_t k) const {
-    const Chunk& chunk = chunks_[i / kChunk];
-    const std::size_t r = first_row_[i] + k - first_row_[i / kChunk * kChunk];
-    return {chunk.entries.data() + chunk.row[r], chunk.entries.data() + chunk.row[r + 1]};
+  // The entries of the element at position i.
+  [[nodiscard]] Row row(std::size_t i) const {
+    const Chunk& c = chunks_[i / kChunk];
+    const std::size_t r = i % kChunk;
+    const std::uint32_t* at = c.at.data() + 3 * r;  // this row's starts, then its ends
+    return Row{std::span<const Entry>(c.plain.data() + at[0], at[3] - at[0]),
+               std::span<const Triple>(c.triples.data() + at[1], at[4] - at[1]),
+               std::span<const Fat>(c.fats.data() + at[2], at[5] - at[2])};
   }
 
   bool cosine_ = false;
-  std::vector<std::size_t> first_row_;  // rows of elements[i]: first_row_[i] .. first_row_[i + 1]
-  std::vector<Chunk> chunks_;           // elements[i]'s rows in chunks_[i / kChunk]
-  std::vector<std::uint32_t> axis_;     // per element: its first axis slot (clusters)
-  std::vector<double> link_total_;      // per element: the transport of its own links
+  std::vector<Chunk> chunks_;                 // elements[i]'s rows in chunks_[i / kChunk]
+  std::vector<std::uint32_t> axis_;           // per element: its first axis slot (clusters)
+  std::vector<double> link_total_;            // per element: the transport of its own links
   std::vector<std::array<Rgb, 6>> arriving_;  // cosine: per cluster, the links' transport by axis
   std::vector<const Element*> order_;         // the elements, in pass order
   std::vector<std::uint64_t> links_hash_;     // per element: hash_links
@@ -1092,8 +1177,9 @@ class Sweeper {
     std::vector<V>& next = buffers[1];
     const auto gather = [&](std::size_t i) {
       if (m.by_axis(s, i)) {  // a cosine cluster receiver: what arrives along each axis
-        for (std::size_t k = 0; k < 6; ++k)
-          s.light(i)->arriving[k] = as_rgb(m.gather(i, values, k));
+        std::array<V, 6> arriving;
+        m.gather_axes(i, values, arriving);
+        for (std::size_t k = 0; k < 6; ++k) s.light(i)->arriving[k] = as_rgb(arriving[k]);
         s.gathered(i) = Rgb::Zero();
         return;
       }

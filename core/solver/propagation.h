@@ -77,7 +77,7 @@ inline constexpr double kMaxContraction = 0.9999;
 /// whose links are unchanged keeps its rows, with no source read again (renumbered when
 /// elements were added; the lab's last three stages kept 92, 96 and 99.9 % of them, the
 /// cabin's 94, 97 and 99.4 %), and memory the process holds needs no page faults. They stay allocated through the refinement
-/// between (the cabin's matrix is 149 MB, its links 118 MB), which every propagation
+/// between (the cabin's matrix is 110 MB, its links 118 MB), which every propagation
 /// needs anyway: the cabin's peak resident memory went from 1,183 to 1,197 MB.
 class PropagationCache {
  public:

@@ -4,17 +4,15 @@
 //  SweepIsotropic: 10 sweeps at the default, whose gather streams over a matrix built
 //             once per propagation (the build is inside the timed region); the rate
 //             is per link and sweep;
-//  SweepCosine: cluster_receiver = cosine, which still reads every link's source
-//             element (and a cluster source's directional sums) in every sweep;
+//  SweepCosine: the same with cluster_receiver = cosine (the solver's default), whose
+//             cluster receivers gather along their six axis directions;
 //  OneSweep:  a propagation of one sweep: mostly the matrix's build (per link);
 //  RowSums:   apply_row_sums in the default mode (per link);
 //  RowSumsKept: the same with the run's PropagationCache after a propagation over the
 //             same links, as a refinement stage that changed no link leaves it: every
 //             row of the gather matrix kept, no source read.
-// Isotropic against Cosine shows what the gather matrix saves over reading the sources
-// through the links (10 sweeps, its build included: 1.3x on the office, 1.5x on the
-// lab on a 2-core VM); OneSweep and RowSums the costs a propagation pays once per
-// iteration before its sweeps.
+// Isotropic against Cosine shows what gathering by axis direction costs; OneSweep and
+// RowSums the costs a propagation pays once per iteration before its sweeps.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
