@@ -1,9 +1,9 @@
 // Microbenchmarks of the propagation (core/solver/propagation.h) on builtin:office and
 // builtin:lab refined once at the default settings (one refinement stage, 1 thread;
 // about 300 k and 1 M links).
-//  SweepIsotropic: 10 sweeps at the default, whose gather streams over a matrix built
-//             once per propagation (the build is inside the timed region); the rate
-//             is per link and sweep;
+//  SweepIsotropic: 10 sweeps with cluster_receiver = isotropic, whose gather streams
+//             over a matrix built once per propagation (the build is inside the timed
+//             region); the rate is per link and sweep;
 //  SweepCosine: the same with cluster_receiver = cosine (the solver's default), whose
 //             cluster receivers gather along their six axis directions;
 //  OneSweep:  a propagation of one sweep: mostly the matrix's build (per link);
