@@ -928,14 +928,12 @@ class GatherMatrix {
             reuse.old->chunks_[last] = Chunk{};
         }
     }
-    // Exact sizes (assign keeps an in-place chunk's storage where it is large enough).
+    // Exact sizes (assign from a range allocates just that; an in-place chunk's storage
+    // is kept where it is large enough).
     Chunk& chunk = chunks_[c];
     chunk.at.assign(scratch.at.begin(), scratch.at.end());
-    chunk.plain.reserve(scratch.plain.size());
     chunk.plain.assign(scratch.plain.begin(), scratch.plain.end());
-    chunk.triples.reserve(scratch.triples.size());
     chunk.triples.assign(scratch.triples.begin(), scratch.triples.end());
-    chunk.fats.reserve(scratch.fats.size());
     chunk.fats.assign(scratch.fats.begin(), scratch.fats.end());
     return kept;
   }
