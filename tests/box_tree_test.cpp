@@ -1,5 +1,5 @@
-// The box tree of the face crossings (core/base/box_tree.h): a sphere query finds every
-// box within reach, each once, against a brute-force scan, and stops when asked.
+// The box tree of the face crossings (core/base/box_tree.h): a box query finds every box
+// that meets it, each once, against a brute-force scan, and stops when asked.
 #include "core/base/box_tree.h"
 
 #include <gtest/gtest.h>
@@ -12,11 +12,19 @@
 namespace hrad {
 namespace {
 
-double distance(const Aabb& b, const Vec3& c) {
-  return ((b.lo - c).cwiseMax(0.0) + (c - b.hi).cwiseMax(0.0)).norm();
+bool meet(const Aabb& a, const Aabb& b) {
+  return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
 }
 
-TEST(BoxTree, FindsEveryBoxWithinReachOnceAsAScanDoes) {
+// The box of half-widths r round c.
+Aabb around(const Vec3& c, const Vec3& r) {
+  Aabb b;
+  b.extend(c - r);
+  b.extend(c + r);
+  return b;
+}
+
+TEST(BoxTree, FindsEveryBoxThatMeetsTheQueryOnceAsAScanDoes) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-10, 10), size(0, 0.5);
   std::vector<Aabb> boxes;
@@ -39,11 +47,13 @@ TEST(BoxTree, FindsEveryBoxWithinReachOnceAsAScanDoes) {
   EXPECT_EQ(tree.size(), boxes.size() - 1);
   for (int q = 0; q < 300; ++q) {
     const Vec3 c(u(rng), u(rng), q % 4 == 0 ? 0.0 : u(rng));
+    // A point, small and large boxes, and flat ones (a piece of a polygon in a plane).
     const double r = q == 0 ? 0.0 : q % 3 == 0 ? 8 * size(rng) : size(rng);
+    const Aabb query = around(c, Vec3(r, q % 7 == 0 ? 0.0 : r, r));
     std::vector<std::uint32_t> want, got;
     for (std::uint32_t i = 0; i < boxes.size(); ++i)
-      if (!boxes[i].empty() && distance(boxes[i], c) <= r) want.push_back(i);
-    EXPECT_TRUE(tree.for_each_near(c, r, [&](std::uint32_t i) {
+      if (!boxes[i].empty() && meet(boxes[i], query)) want.push_back(i);
+    EXPECT_TRUE(tree.for_each_overlapping(query, [&](std::uint32_t i) {
       got.push_back(i);
       return true;
     }));
@@ -61,13 +71,15 @@ TEST(BoxTree, StopsWhenTheVisitorSaysSo) {
   }
   const BoxTree tree(boxes);
   int calls = 0;
-  EXPECT_FALSE(tree.for_each_near(Vec3::Zero(), 0.5, [&](std::uint32_t) { return ++calls < 7; }));
+  EXPECT_FALSE(tree.for_each_overlapping(around(Vec3::Zero(), Vec3::Constant(0.5)),
+                                         [&](std::uint32_t) { return ++calls < 7; }));
   EXPECT_EQ(calls, 7);
-  // Nothing in reach, a negative or NaN radius, an empty tree: no call, nothing stopped.
-  EXPECT_TRUE(tree.for_each_near(Vec3(5, 0, 0), 3.9, [](std::uint32_t) { return false; }));
-  EXPECT_TRUE(tree.for_each_near(Vec3::Zero(), -1, [](std::uint32_t) { return false; }));
-  EXPECT_TRUE(tree.for_each_near(Vec3::Zero(), std::nan(""), [](std::uint32_t) { return false; }));
-  EXPECT_TRUE(BoxTree().for_each_near(Vec3::Zero(), 1, [](std::uint32_t) { return false; }));
+  // Nothing in reach, an empty or NaN query, an empty tree: no call, nothing stopped.
+  const auto never = [](std::uint32_t) { return false; };
+  EXPECT_TRUE(tree.for_each_overlapping(around(Vec3(5, 0, 0), Vec3::Constant(3.9)), never));
+  EXPECT_TRUE(tree.for_each_overlapping(Aabb{}, never));
+  EXPECT_TRUE(tree.for_each_overlapping(around(Vec3::Zero(), Vec3::Constant(std::nan(""))), never));
+  EXPECT_TRUE(BoxTree().for_each_overlapping(around(Vec3::Zero(), Vec3::Ones()), never));
 }
 
 }  // namespace

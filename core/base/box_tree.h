@@ -1,4 +1,4 @@
-// A static tree over axis-aligned boxes, for "which boxes may meet this sphere" queries
+// A static tree over axis-aligned boxes, for "which boxes may meet this box" queries
 // that stop as soon as the caller has seen enough. The face crossings of the open
 // fractions (core/raycast/face_crossings.cpp) ask it for the polygons near a piece and
 // give up after a few hundred. Embree's point query could not stop: after the last
@@ -20,31 +20,31 @@ class BoxTree {
   /// Indexes boxes[i] as i. Empty boxes are never reported.
   explicit BoxTree(std::vector<Aabb> boxes);
 
-  /// Calls visit(i) for every indexed box i within `radius` of `centre` (closed: a box
-  /// touching the sphere counts), each once, in no set order, until visit returns false;
-  /// returns whether every call returned true.
+  /// Calls visit(i) for every indexed box i that meets `query` (closed: touching
+  /// counts), each once, in no set order, until visit returns false; returns whether
+  /// every call returned true. A query box rather than a sphere: the face crossings ask
+  /// for the polygons near a piece, and a sphere round a long thin piece held many more
+  /// (the cabin's crossing tests took 1.5 times as long with spheres).
   template <class Visit>
-  bool for_each_near(const Vec3& centre, double radius, const Visit& visit) const {
-    if (nodes_.empty() || !(radius >= 0)) return true;
-    const double r2 = radius * radius;
-    const auto near = [&](const Aabb& b) {
-      const Vec3 below = (b.lo - centre).cwiseMax(0.0);
-      const Vec3 above = (centre - b.hi).cwiseMax(0.0);
-      return (below + above).squaredNorm() <= r2;
+  bool for_each_overlapping(const Aabb& query, const Visit& visit) const {
+    if (nodes_.empty() || query.empty()) return true;
+    const auto meets = [&](const Aabb& b) {
+      return (b.lo.array() <= query.hi.array()).all() && (b.hi.array() >= query.lo.array()).all();
     };
+    if (!meets(nodes_[0].box)) return true;
+    // Only nodes that meet the query are pushed.
     std::uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
       const Node& node = nodes_[stack[--top]];
-      if (!near(node.box)) continue;
       if (node.left == kLeaf) {
         for (std::uint32_t k = node.begin; k < node.end; ++k)
-          if (near(boxes_[ids_[k]]) && !visit(ids_[k])) return false;
+          if (meets(boxes_[ids_[k]]) && !visit(ids_[k])) return false;
         continue;
       }
-      stack[top++] = node.left;
-      stack[top++] = node.right;
+      if (meets(nodes_[node.left].box)) stack[top++] = node.left;
+      if (meets(nodes_[node.right].box)) stack[top++] = node.right;
     }
     return true;
   }

@@ -112,14 +112,16 @@ bool crossed_inside(const RayScene& rays, const Scene& scene, std::span<const Ve
     f.inward[e] = len > 0 ? Vec3(f.n.cross(edge) / len) : Vec3::Zero();
   }
   if (k < 3 || !convex(f)) return true;
-  const Vec3 centre = polygon_centroid(f.corner);
-  double radius = 0;
-  for (const Vec3& c : f.corner) radius = std::max(radius, (c - centre).norm());
+  // A polygon that reaches in comes within `tolerance` of a point inside the piece.
+  Aabb near;
+  for (const Vec3& c : f.corner) near.extend(c);
+  near.lo.array() -= 2 * tolerance;
+  near.hi.array() += 2 * tolerance;
   const std::uint32_t twin = rays.twin(own);
   int tested = 0;
   bool crossed = false;
   const BoxTree& boxes = rays.polygon_boxes();
-  boxes.for_each_near(centre, radius + 2 * tolerance, [&](std::uint32_t other) {
+  boxes.for_each_overlapping(near, [&](std::uint32_t other) {
     if (other == own || other == twin) return true;
     if (++tested > kCrossingCandidates) {
       crossed = true;
