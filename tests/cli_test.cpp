@@ -183,6 +183,17 @@ TEST_F(Cli, SolveWritesStatsMeshAndImage) {
                           "links", "elements", "bytes", "peak_rss_bytes", "tasks", "scheduler_ops",
                           "lock_wait_s", "idle_s", "rays_cast", "rays_skipped", "gather_sweeps"})
     EXPECT_TRUE(j["iterations"][0].contains(key)) << key;
+  // The propagation's parts: its preparation's three (each measured, so above zero),
+  // then the sweeps; the bookkeeping between them only adds.
+  const nlohmann::json& first = j["iterations"][0];
+  const double parts = first["open_s"].get<double>() + first["push_weights_s"].get<double>() +
+                       first["row_sums_s"].get<double>();
+  EXPECT_GT(first["open_s"].get<double>(), 0);
+  EXPECT_GT(first["push_weights_s"].get<double>(), 0);
+  EXPECT_GT(first["row_sums_s"].get<double>(), 0);
+  EXPECT_LE(parts, first["prepare_s"].get<double>());
+  EXPECT_LE(first["prepare_s"].get<double>() + first["sweeps_s"].get<double>(),
+            first["propagate_wall_s"].get<double>());
   for (const char* key : {"wall_s", "refine_wall_s", "refine_cpu_s", "links", "elements",
                           "rays_cast", "rays_skipped", "peak_rss_bytes"})
     EXPECT_TRUE(j["totals"].contains(key)) << key;

@@ -109,6 +109,9 @@ TEST(StatsJson, EveryIterationHasTheDocumentedKeysWithTypes) {
       {"refine_thread_cpu_s", Kind::Number},
       {"task_cpu_ns", Kind::Number},
       {"prepare_s", Kind::Number},
+      {"open_s", Kind::Number},
+      {"push_weights_s", Kind::Number},
+      {"row_sums_s", Kind::Number},
       {"sweeps_s", Kind::Number},
       {"stage_start_s", Kind::Number},
       {"stage_end_s", Kind::Number},
@@ -153,9 +156,11 @@ TEST(StatsJson, TotalsHaveTheDocumentedKeysWithTypes) {
       {"iterations_run", Kind::Integer}, {"refine_thread_cpu_s", Kind::Number},
       {"task_cpu_ns", Kind::Number},     {"propagate_wall_s", Kind::Number},
       {"prepare_s", Kind::Number},       {"sweeps_s", Kind::Number},
-      {"load_s", Kind::Number},          {"link_compact_s", Kind::Number},
-      {"stage_start_s", Kind::Number},   {"stage_end_s", Kind::Number},
-      {"setup_s", Kind::Number},         {"scene_load_s", Kind::Number},
+      {"open_s", Kind::Number},          {"push_weights_s", Kind::Number},
+      {"row_sums_s", Kind::Number},      {"load_s", Kind::Number},
+      {"link_compact_s", Kind::Number},  {"stage_start_s", Kind::Number},
+      {"stage_end_s", Kind::Number},     {"setup_s", Kind::Number},
+      {"scene_load_s", Kind::Number},
   };
   for (const auto& [key, kind] : keys) {
     ASSERT_TRUE(t.contains(key)) << key;

@@ -36,6 +36,9 @@ IterationTotals sum_iterations(const std::vector<IterationStats>& iterations) {
     t.refine_thread_cpu_s += it.refine_thread_cpu_s;
     t.propagate_wall_s += it.propagate_wall_s;
     t.prepare_s += it.prepare_s;
+    t.open_s += it.open_s;
+    t.push_weights_s += it.push_weights_s;
+    t.row_sums_s += it.row_sums_s;
     t.sweeps_s += it.sweeps_s;
     t.load_s += it.load_s;
     t.link_compact_s += it.link_compact_s;

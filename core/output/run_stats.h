@@ -48,6 +48,10 @@ struct IterationStats {
   /// The propagation's preparation: open fractions, push weights and row sums of the
   /// new link set (rays cast for them included).
   double prepare_s = 0;
+  /// Parts of prepare_s: the open fractions of the new leaves (in the first iteration
+  /// with cluster_members = exposed, the members' exposures too), the push weights, and
+  /// the row sums' pass, which builds the gather matrix the sweeps then use.
+  double open_s = 0, push_weights_s = 0, row_sums_s = 0;
   double sweeps_s = 0;  ///< the gather and push-pull sweeps
   /// The refinement stage's serial edges: from the stage's start until its last refiner
   /// entered its loop (starting the team, solver and progress threads), and from the
@@ -120,10 +124,11 @@ struct IterationStats {
 struct IterationTotals {
   double refine_wall_s = 0, refine_cpu_s = 0, refine_thread_cpu_s = 0;
   double propagate_wall_s = 0, idle_s = 0;
-  double prepare_s = 0, sweeps_s = 0;         ///< parts of propagate_wall_s
-  double load_s = 0, link_compact_s = 0;      ///< parts of refine_wall_s
-  double stage_start_s = 0, stage_end_s = 0;  ///< parts of refine_wall_s
-  std::map<std::string, double> lock_wait_s;  ///< by lock class
+  double prepare_s = 0, sweeps_s = 0;                     ///< parts of propagate_wall_s
+  double open_s = 0, push_weights_s = 0, row_sums_s = 0;  ///< parts of prepare_s
+  double load_s = 0, link_compact_s = 0;                  ///< parts of refine_wall_s
+  double stage_start_s = 0, stage_end_s = 0;              ///< parts of refine_wall_s
+  std::map<std::string, double> lock_wait_s;              ///< by lock class
   std::uint64_t tasks = 0, links_created = 0, scheduler_ops = 0, steals = 0;
   std::uint64_t rays_cast = 0, rays_skipped = 0;
   int peak_parallelism = 0;  ///< the largest of any iteration

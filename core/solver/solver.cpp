@@ -484,6 +484,7 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
     progress(phase, scale.propagate(it, 0.8 * ProgressScale::prepare_share(it) * share));
   };
   if (progress) on_open(0);
+  const auto open_start = Clock::now();
   // The members' exposures within their clusters depend on the geometry alone: once.
   if (it == 1 && o.cluster_members == ClusterMembers::Exposed &&
       receiver_mode == ClusterReceiver::Cosine && effects.visibility.on) {
@@ -496,16 +497,20 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   const OpenStats open =
       update_open_fractions(elements, hierarchy, rays, o.seed, o.threads, effects.visibility.on,
                             progress ? std::function<void(double)>(on_open) : nullptr);
+  is.open_s = seconds_since(open_start);
   // Row sums measure transport, so their push shares it by geometry; the
   // propagation's push shares light, by the sources' radiosities. A rescale of the
   // row sums (clamp, normalize) must act on the propagation's own operator, so it
   // measures them with the light weights (in a furnace, normalize is then exact).
+  const auto push_start = Clock::now();
   is.rays_cast += push_weights.update(elements, transport, o.threads, o.push_visibility);
   const bool geometric_row_sums = row_sum_mode == RowSumMode::Keep;
   push_weights.apply(geometric_row_sums);
+  is.push_weights_s = seconds_since(push_start);
   is.rays_cast += open.rays_cast;
   is.open_rays = open.rays_cast;
   is.open_area_fraction = open.area_fraction;
+  const auto row_sums_start = Clock::now();
   const RowSumStats rs = apply_row_sums(elements, row_sum_mode, receiver_mode, hierarchy, rays,
                                         o.row_sum_rays, o.seed, o.threads, &propagation_cache);
   is.rays_cast += rs.rays_cast;
@@ -516,6 +521,7 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   is.row_sum_corrected = rs.corrected;
   is.gather_rows_kept = rs.rows_kept;
   if (geometric_row_sums) push_weights.apply(false);
+  is.row_sums_s = seconds_since(row_sums_start);
   return elements;
 }
 
