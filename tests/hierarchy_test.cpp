@@ -153,8 +153,10 @@ TEST(Transport, ClustersInOnePlaneAreCulledLikeSurfaces) {
       continue;
     }
     const Vec3* n = h.common_normal(*e);
-    if (e->box.hi.x() > 10) {                         // holds a square
-      if (e->box.lo.x() < 10) EXPECT_EQ(n, nullptr);  // and slivers
+    if (e->box.hi.x() > 10) {    // holds a square
+      if (e->box.lo.x() < 10) {  // and slivers
+        EXPECT_EQ(n, nullptr);
+      }
       continue;
     }
     ASSERT_NE(n, nullptr);

@@ -49,6 +49,12 @@ double area_weighted_sum(std::span<const Element> kids) {
   return s;
 }
 
+double area_weighted_cluster_sum(std::span<const Element> kids) {
+  double s = 0;
+  for (const Element& c : kids) s += c.area * static_cast<double>(c.cluster_weight);
+  return s;
+}
+
 // A floor element linked to all five other walls of the closed room: every point of it
 // sees the whole hemisphere, so every child gets the same share (weight 1, to the
 // accuracy of one point form factor per child), and the weights conserve energy.
@@ -64,6 +70,8 @@ TEST(PushWeights, ClosedRoomSharesEvenly) {
   update_push_weights(room.h.elements(), room.transport, 1);
   EXPECT_NEAR(area_weighted_sum(kids), floor.area, 1e-6 * floor.area);
   for (const Element& c : kids) EXPECT_NEAR(c.push_weight, 1.0, 0.02);
+  // The chain covers the whole hemisphere: nothing comes from clusters, nothing to share.
+  for (const Element& c : kids) EXPECT_EQ(c.cluster_weight, 1.0f);
 }
 
 // Linked to one adjacent wall only, the children along the shared edge see much more
@@ -97,6 +105,15 @@ TEST(PushWeights, AdjacentWallFavoursTheNearChildren) {
   }
   EXPECT_GT(hi, 1.4);
   EXPECT_LT(lo, 0.6);
+  // The rest of each child's view (1 - its form factor to the wall) is what the
+  // clusters above would fill: the children along the edge, which see more of the
+  // wall, get less of that light, by 1 - f over its area-weighted mean.
+  EXPECT_NEAR(area_weighted_cluster_sum(kids), floor.area, 1e-6 * floor.area);
+  for (const Element& c : kids) {
+    const double f = room.transport.form_factor_from_point(c.center, c.normal, *side);
+    EXPECT_NEAR(c.cluster_weight, (1 - f) / (1 - mean_f), 1e-5);
+    EXPECT_EQ(c.cluster_weight<1, c.push_weight> 1);
+  }
   // Below the linked element its links go on shaping the shares: the floor's links are
   // in the chain of kids[0], which has none of its own, so kids[0]'s children are
   // weighed by their own centres' form factors to the wall relative to their siblings

@@ -61,6 +61,10 @@ struct Element {
   /// Surface children of surface elements: the share of the parent's irradiance this
   /// element receives, relative to the parent's mean (core/solver/push_weights.h); 1 elsewhere.
   float push_weight = 1;
+  /// Surface children of surface elements: the share of what the parent inherited from
+  /// the clusters above its polygon that this element receives, relative to the
+  /// parent's mean (core/solver/push_weights.h); 1 elsewhere. (In what was padding.)
+  float cluster_weight = 1;
   double area = 0;             ///< surface area (clusters: total of member polygons)
   Vec3 corner[4];              ///< surfaces with nverts <= 4
   const Vec3* ngon = nullptr;  ///< surfaces with nverts > 4 (top-level polygon only)

@@ -184,12 +184,13 @@ class PassState {
     std::uint32_t parent;     // position, kNone at the root
     std::uint32_t first_kid;  // kids_[first_kid .. next node's first_kid): children
     std::uint8_t flags;
-    std::uint32_t xslot;  // under a cluster with exposures: its place in xin_ / xout_, else kNone
-    float push_weight;    // Element::push_weight
-    float gather_scale;   // Element::gather_scale
-    float cluster_scale;  // Element::cluster_scale
-    double gain;          // open_gain
-    double weight;        // area x open weight: its share of its parent's pull
+    std::uint32_t xslot;   // under a cluster with exposures: its place in xin_ / xout_, else kNone
+    float push_weight;     // Element::push_weight
+    float gather_scale;    // Element::gather_scale
+    float cluster_scale;   // Element::cluster_scale
+    float cluster_weight;  // Element::cluster_weight
+    double gain;           // open_gain
+    double weight;         // area x open weight: its share of its parent's pull
     double area;
   };
 
@@ -269,6 +270,7 @@ class PassState {
       Node& d = node_[u];
       e.index = static_cast<std::uint32_t>(u);
       d.push_weight = e.push_weight;
+      d.cluster_weight = e.cluster_weight;
       d.gather_scale = e.gather_scale;
       d.cluster_scale = e.cluster_scale;
       d.gain = open_gain(e);
@@ -306,7 +308,7 @@ class PassState {
     const std::size_t p = d.parent;
     if ((d.flags & kChain) != 0) {
       const Rgb chain = gathered_[i] + static_cast<double>(d.push_weight) * gathered_[p];
-      next_[i] = next_[p] - gathered_[p] + chain;
+      next_[i] = static_cast<double>(d.cluster_weight) * (next_[p] - gathered_[p]) + chain;
       gathered_[i] = chain;
       return;
     }

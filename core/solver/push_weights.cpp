@@ -34,6 +34,9 @@ constexpr double kFarSource = 3.0;
 // (3 of its radii are half its length): 195 M exact point evaluations and 16-30 s of
 // push weights an iteration, after 1.3 s of refinement.
 constexpr std::size_t kExactChain = kPushExactChain;
+// Below this open-area mean of 1 - (a child's chain weight) the clusters above hand P
+// next to nothing, and its children share it alike.
+constexpr double kMinUncovered = 0.02;
 // With push_visibility = child, a child's own visibility to a source is per unit of its
 // open area (the rays count its closed-in part as blocked, and what the push hands on
 // is per unit of open area), at most 1, its open fraction taken as at least
@@ -138,7 +141,7 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
                              PushVisibility mode, std::vector<ChainLink>& chain,
                              const PushWeights::ChildVisibility* old,
                              PushWeights::ChildVisibility* now, std::vector<std::size_t>& row,
-                             float* light, float* geometry) {
+                             float* light, float* geometry, float* cluster) {
   const auto kids = p.child_span();
   chain.clear();
   for (const Element* a = &p; a != nullptr && !a->is_cluster(); a = a->parent)
@@ -176,6 +179,19 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
     by_light += area * wl;
     by_geometry += area * wg;
   }
+  // What the clusters above hand P comes from the directions its chain's sources leave
+  // free: a child whose chain covers more of its hemisphere (a piece of a panel 6 cm
+  // behind a drawer pedestal, which fills most of its view) gets less of it.
+  double uncovered = 0;
+  for (std::size_t k = 0; k < kids.size(); ++k) {
+    const Element& c = kids[k];
+    cluster[k] = static_cast<float>(std::max(0.0, 1.0 - static_cast<double>(geometry[k])));
+    uncovered += c.area * open_weight(c) * static_cast<double>(cluster[k]);
+  }
+  for (std::size_t k = 0; k < kids.size(); ++k)
+    cluster[k] = open_area > 0 && uncovered > kMinUncovered * open_area
+                     ? static_cast<float>(cluster[k] * (open_area / uncovered))
+                     : 1.0f;
   // The open-area mean of the weights is 1: P's irradiance is shared out, not made.
   const auto normalise = [&](float* w, double weighted) {
     const bool ok = weighted > 0 && open_area > 0;
@@ -203,6 +219,7 @@ std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const T
     }
   light_.assign(offset_.back(), 1.0f);
   geometry_.assign(offset_.back(), 1.0f);
+  cluster_.assign(offset_.back(), 1.0f);
   const auto n = static_cast<std::ptrdiff_t>(parents_.size());
   // The previous update's children's visibilities, by parent (push_visibility = child).
   std::unordered_map<const Element*, std::size_t> previous;
@@ -221,8 +238,9 @@ std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const T
     const std::size_t at = offset_[u];
     const ChildVisibility* old = nullptr;
     if (const auto it = previous.find(&p); it != previous.end()) old = &own_[it->second];
-    rays += weigh_children(p, transport, any_light, mode, chain, old,
-                           now.empty() ? nullptr : &now[u], row, &light_[at], &geometry_[at]);
+    rays +=
+        weigh_children(p, transport, any_light, mode, chain, old, now.empty() ? nullptr : &now[u],
+                       row, &light_[at], &geometry_[at], &cluster_[at]);
     evaluations += p.child_span().size() * chain.size();  // the chain as weigh_children cut it
   }
   throw_if_interrupted();
@@ -240,7 +258,10 @@ void PushWeights::apply(bool geometric) const {
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const auto u = static_cast<std::size_t>(i);
     const auto kids = parents_[u]->child_span();
-    for (std::size_t k = 0; k < kids.size(); ++k) kids[k].push_weight = w[offset_[u] + k];
+    for (std::size_t k = 0; k < kids.size(); ++k) {
+      kids[k].push_weight = w[offset_[u] + k];
+      kids[k].cluster_weight = cluster_[offset_[u] + k];
+    }
   }
 }
 
