@@ -153,7 +153,7 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
   std::uint64_t rays = 0;
   const bool own = mode == PushVisibility::Child;
   if (own) rays = own_visibilities(p, transport, chain, old, *now, row);
-  double open_area = 0, by_light = 0, by_geometry = 0;
+  double open_area = 0, by_light = 0, by_geometry = 0, uncovered = 0;
   for (std::size_t k = 0; k < kids.size(); ++k) {
     const Element& c = kids[k];
     double wl = 0, wg = 0;
@@ -174,19 +174,15 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
     if (!any_light) wl = wg;
     light[k] = static_cast<float>(wl);
     geometry[k] = static_cast<float>(wg);
+    // What the clusters above hand P comes from the directions its chain's sources
+    // leave free: a child whose chain covers more of its hemisphere (a piece of a panel
+    // 6 cm behind a drawer pedestal, which fills most of its view) gets less of it.
+    cluster[k] = static_cast<float>(std::max(0.0, 1.0 - static_cast<double>(geometry[k])));
     const double area = c.area * open_weight(c);
     open_area += area;
     by_light += area * wl;
     by_geometry += area * wg;
-  }
-  // What the clusters above hand P comes from the directions its chain's sources leave
-  // free: a child whose chain covers more of its hemisphere (a piece of a panel 6 cm
-  // behind a drawer pedestal, which fills most of its view) gets less of it.
-  double uncovered = 0;
-  for (std::size_t k = 0; k < kids.size(); ++k) {
-    const Element& c = kids[k];
-    cluster[k] = static_cast<float>(std::max(0.0, 1.0 - static_cast<double>(geometry[k])));
-    uncovered += c.area * open_weight(c) * static_cast<double>(cluster[k]);
+    uncovered += area * static_cast<double>(cluster[k]);
   }
   for (std::size_t k = 0; k < kids.size(); ++k)
     cluster[k] = open_area > 0 && uncovered > kMinUncovered * open_area

@@ -137,8 +137,6 @@ void BM_CabinGeneration(benchmark::State& state) {
 }
 BENCHMARK(BM_CabinGeneration)->Unit(benchmark::kMillisecond);
 
-}  // namespace
-
 // The open fractions test each new leaf once (core/raycast/face_crossings.h), and the
 // cabin's leaves are its polygons.
 void BM_Crossings(benchmark::State& state) {
@@ -163,3 +161,5 @@ void BM_Crossings(benchmark::State& state) {
                           static_cast<std::int64_t>(corners.size()));
 }
 BENCHMARK(BM_Crossings)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+}  // namespace
