@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Accuracy against cost (issue 7): probe error vs wall time and vs memory, per scene.
+"""Accuracy against cost: probe error vs wall time and vs memory, per scene.
 
 Reads runs.csv of an experiment with an `accuracy` block (probe_err_mean: mean over the
 probes of the relative irradiance error against the path-traced reference). One row of
@@ -12,7 +12,7 @@ their settings. The fronts are also printed on stdout. Where the folder holds th
 cached reference (reference-<scene>.csv), its noise is shaded: the mean over the probes
 of the reference's relative standard error (channel of the largest irradiance), below
 which an error is not resolved and a fall is no trend.
-Usage: accuracy_time.py RESULT_DIR [--out-dir DIR]
+Usage: accuracy_time.py RESULT_DIR [--out-dir DIR] [--size page|column] [--caption-in-image]
 """
 import os
 import statistics
@@ -92,7 +92,7 @@ VARY_ROW_SUMS = len(common.unique(points, "row_sums")) > 1
 for p in points:
     p["set"] = f"oracle {p['oracle']}" + (f", row_sums {p['row_sums']}" if VARY_ROW_SUMS else "")
 oracles = common.unique(points, "set")
-fig, axes = common.figure(len(scenes), 2, width=3.5, height=2.9)
+fig, axes = common.figure(len(scenes), 2)
 keys = []  # the numbered front points' settings, per panel, for the caption
 for s, scene in enumerate(scenes):
     mine = [p for p in points if p["scene"] == scene]
@@ -117,10 +117,12 @@ for s, scene in enumerate(scenes):
                    facecolors="none", edgecolors="black", linewidths=1.0,
                    label="Pareto front, all runs")
         # Numbers beside the front's points (their settings would pile up in a
-        # column-wide panel); the settings of each number are in the caption.
-        for i, p in enumerate(front, 1):
-            ax.annotate(str(i), (p[xkey], p["err_pct"]), fontsize=6, xytext=(4, 3),
-                        textcoords="offset points")
+        # column-wide panel), placed once the panel's size is final so that none covers
+        # another (a number with no free place is left out); the settings of each
+        # number are in the caption.
+        common.after_layout(fig, lambda r, ax=ax, front=front, xkey=xkey: common.label_points(
+            ax, [p[xkey] for p in front], [p["err_pct"] for p in front],
+            [str(i) for i in range(1, len(front) + 1)]))
         keys.append(f"{common.scene_label(scene)} vs {what}: " +
                     "; ".join(f"{i} {settings_label(p)}" for i, p in enumerate(front, 1)))
         print(f"{common.scene_label(scene)}: Pareto front, error vs {what}:")
@@ -148,17 +150,14 @@ handles = {}
 for ax in axes:
     for h, l in zip(*ax.get_legend_handles_labels()):
         handles.setdefault(l, h)
-# Three columns of long labels ("Pareto front of oracle error, row_sums normalize") are
-# wider than the figure: two then.
-columns = min(2 if max(len(label) for label in handles) > 30 else 3, len(handles))
-fig.legend(list(handles.values()), list(handles.keys()), loc="upper center", ncol=columns,
-           frameon=False)
-legend_rows = -(-len(handles) // columns)
+# At most three columns (save() takes fewer where the labels are too wide for them).
+columns = min(3, len(handles))
+common.legend_above(fig, handles=handles.values(), labels=handles.keys(), ncol=columns)
 
 common.save(fig, args.out_dir, "accuracy_time",
             common.caption(manifest, runs,
                            "Mean relative probe error (vs path-traced reference) against wall "
                            "time and memory; circled and numbered: the Pareto front (oracle, "
-                           "row_sums when swept, eps, a = min_area, v = visibility rays): " +
-                           ". ".join(keys)),
-            top_inches=0.18 * legend_rows + 0.1)
+                           "row_sums when swept, eps, a = min_area, v = visibility rays; a "
+                           "number that would cover another is left out): " +
+                           ". ".join(keys)))

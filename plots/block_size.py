@@ -3,7 +3,7 @@
 
 CPU refinement time summed over refiners and over all iterations (refine_cpu_s of
 runs.csv) against refiner threads, one line per block size, one panel per scene.
-Usage: block_size.py RESULT_DIR [--out-dir DIR]
+Usage: block_size.py RESULT_DIR [--out-dir DIR] [--size page|column] [--caption-in-image]
 """
 import common
 
@@ -24,6 +24,6 @@ for ax, scene in zip(axes, scenes):
     ax.set_ylabel("CPU refinement time (s)\nsummed over refiners and iterations")
     ax.set_ylim(bottom=0)
     ax.set_title(common.scene_label(scene))
-    ax.legend()
+    common.legend_below(ax)
 common.save(fig, args.out_dir, "block_size",
             common.caption(manifest, runs, "CPU time vs block size (paper Fig. 7)"))

@@ -4,7 +4,7 @@
 For each scene, the refinement time summed over all refiners (refine_cpu_s of
 iterations.csv, busy time of every refiner) against the number of refiner threads,
 one line per iteration. Constant lines mean no parallel overhead.
-Usage: cpu_time.py RESULT_DIR [--out-dir DIR]
+Usage: cpu_time.py RESULT_DIR [--out-dir DIR] [--size page|column] [--caption-in-image]
 """
 import common
 
@@ -25,6 +25,6 @@ for ax, scene in zip(axes, scenes):
     ax.set_ylabel("refinement CPU time, all refiners (s)")
     ax.set_ylim(bottom=0)
     ax.set_title(common.scene_label(scene))
-    ax.legend()
+    common.legend_below(ax)
 common.save(fig, args.out_dir, "cpu_time",
             common.caption(manifest, runs, "CPU refinement time per iteration (paper Fig. 4)"))

@@ -5,7 +5,7 @@ Left: links alive at the end of each refinement iteration; right: the bytes held
 the hierarchy's structures (bytes_total = elements + links, iterations.csv) at the end
 of each iteration, in MiB; one line per scene (and per other swept value). The link
 set does not depend on the thread count, so the fewest-threads runs are shown.
-Usage: memory.py RESULT_DIR [--out-dir DIR]
+Usage: memory.py RESULT_DIR [--out-dir DIR] [--size page|column] [--caption-in-image]
 """
 import common
 
@@ -29,9 +29,8 @@ for ax, column, ylabel in ((a, "links", "links alive at the end of the iteration
     ax.set_ylabel(ylabel)
     ax.set_ylim(bottom=0)
     ax.grid(True, alpha=0.3)
-# One legend (the panels show the same lines), at the lower right of the left panel:
-# the axis starts at 0 and the last iterations hold the most links, so no point is there.
-a.legend(loc="lower right")
+# One legend (the panels show the same lines), under the left panel.
+common.legend_below(a)
 a.set_title("links")
 b.set_title("memory")
 common.save(fig, args.out_dir, "memory",

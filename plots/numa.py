@@ -8,7 +8,7 @@ served by the refiner's own NUMA node: tasks whose receiver lives there), from t
 local_access_ratio column of runs.csv; a panel without data says so instead of drawing zeros,
 and on a machine with one NUMA node (manifest.json's topology) a note says why every
 ratio is 1.0. Legends sit above the bars, in headroom left for them.
-Usage: numa.py RESULT_DIR [--out-dir DIR]
+Usage: numa.py RESULT_DIR [--out-dir DIR] [--size page|column] [--caption-in-image]
 """
 import common
 
@@ -43,18 +43,18 @@ for panel, column in ((a, "refine_wall_s"), (b, "local_access_ratio")):
                 err[1].append(hi - m)
         panel.bar(xs, means, width, yerr=err, capsize=2, label=s)
     panel.set_xticks(range(len(pairs)))
-    panel.set_xticklabels([f"{p}\n{q}" for p, q in pairs], fontsize=6)
+    panel.set_xticklabels([f"{p}\n{q}" for p, q in pairs], fontsize=8)
     panel.set_xlabel("thread pinning / memory placement")
     # Headroom above the tallest bar for the legend, so that it covers no bar.
     panel.set_ylim(0, 1.3 * top if top > 0 else 1)
-    panel.legend(title="scheduler", title_fontsize=6.5, loc="upper center",
+    panel.legend(title="scheduler", loc="upper center",
                  ncol=max(1, len(schedulers)), frameon=False)
     panel.grid(True, axis="y", alpha=0.3)
     if column == "local_access_ratio" and nodes == 1:
         panel.text(0.5, 0.5, "this machine has one NUMA node: every task's receiver is on\n"
                    "the refiner's node, so every ratio is 1.0 (multi-node studies:\n"
                    "HWLOC_SYNTHETIC or HWLOC_XMLFILE, see docs/numa.md)",
-                   ha="center", va="center", fontsize=7, transform=panel.transAxes,
+                   ha="center", va="center", fontsize=8, transform=panel.transAxes,
                    bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "grey"})
 a.set_ylabel(f"refinement wall time (s), {threads} threads")
 a.set_title(common.scene_label(scene))

@@ -10,11 +10,17 @@ scheduler's own one-thread time), with:
     efficiency at P < N lies between 1 and the one measured at N);
   - the fixed block sizes of `blocked` at N threads, and the cabin at N threads, as
     separate markers.
-Prints the same figures as a Markdown table. Usage:
-  scaling_check.py scaling.csv [--out scaling.png]
+Prints the same figures as a Markdown table. Writes scaling.pdf, .svg, .png (300 dpi)
+and scaling.caption.txt beside the CSV (or --out-dir, or --out PATH: PATH without its
+extension names them), in the common style of plots/common.py (--size, --caption-in-image).
+scaling.csv does not record hrad's revision; the caption says so.
+Usage:
+  scaling_check.py scaling.csv [--out scaling.png | --out-dir DIR] [--size page|column]
+                   [--caption-in-image]
 """
 import argparse
 import csv
+import os
 import statistics
 import sys
 
@@ -109,34 +115,55 @@ def table(rows, ctl):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("csv")
-    ap.add_argument("--out", default=None, help="figure path (default: beside the CSV)")
+    ap.add_argument("--out", default=None,
+                    help="figure path; its folder and name without the extension are used "
+                         "[default: scaling.* beside the CSV]")
+    ap.add_argument("--out-dir", default=None, help="folder for scaling.* [default: the CSV's]")
+    common.add_figure_options(ap)
     a = ap.parse_args()
+    common.use_figure_options(a)
     rows = load(a.csv)
     ctl = control(rows)
     print(table(rows, ctl))
-    plt = common._pyplot()
+    if a.out:
+        out_dir, name = os.path.dirname(a.out) or ".", os.path.splitext(os.path.basename(a.out))[0]
+    else:
+        out_dir, name = a.out_dir or os.path.dirname(a.csv) or ".", "scaling"
     n = max(r["threads"] for r in rows)
-    fig, axes = plt.subplots(1, 2, figsize=(9, 4), sharey=True)
+    fig, axes = common.figure(1, 2)
     for ax, (key, title) in zip(axes, (("refine_wall_s", "refinement"), ("wall_s", "whole run"))):
         ts = [1, n]
         ax.plot(ts, ts, color="0.8", lw=1, label="linear")
         if ctl:
             eff = ctl[1] if key == "refine_wall_s" else ctl[2]
             ax.plot([1, ctl[0]], [1, ctl[0] * eff], color="0.3", ls="--", lw=1,
-                    label=f"machine's limit (control: {eff:.2f} at {ctl[0]})")
+                    label="machine's limit (hardware control)")
         for s, pts in speedups(rows, key).items():
-            ax.plot([t for t, _ in pts], [v for _, v in pts], marker="o", ms=3, label=s)
+            ax.plot([t for t, _ in pts], [v for _, v in pts], marker="o", label=s)
         for label, v in extras(rows, key, n):
             ax.plot([n], [v], marker="x", ls="none", label=f"{label} at {n}")
-        ax.set_title(f"builtin:lab, {title}")
+        ax.set_title(f"lab, {title}" + (f"; control: {eff:.2f} at {ctl[0]}" if ctl else ""))
+        ax.set_xticks(sorted({r["threads"] for r in rows}))
         ax.set_xlabel("threads")
+        ax.set_ylabel("speed-up over 1 thread (medians)")
+        ax.set_ylim(bottom=0)
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel("speed-up over 1 thread (medians)")
-    axes[1].legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
-    out = a.out or a.csv.rsplit(".", 1)[0] + ".png"
-    fig.savefig(out, dpi=120)
-    print(f"wrote {out}", file=sys.stderr)
+    # One legend for both panels (the same lines), above them.
+    common.legend_above(fig, axes[1])
+    scenes = sorted({r["scene"] for r in rows})
+    args = [common.as_given(a.csv)]
+    if a.out:
+        args += ["--out", common.as_given(a.out)]
+    elif a.out_dir:
+        args += ["--out-dir", common.as_given(a.out_dir)]
+    text = common.Caption(
+        "Scaling check: speed-up over one thread of the refinement and of the whole run "
+        f"against threads, medians over repetitions; machine's limit from the hardware "
+        f"control. hrad revision not recorded in scaling.csv.\n"
+        f"Scenes: {', '.join(scenes)}.\n"
+        f"Regenerate: tools/scaling-check.sh {n}\n"
+        f"Redraw: {common.redraw_command(args=args)}")
+    common.save(fig, out_dir, name, text)
 
 
 if __name__ == "__main__":

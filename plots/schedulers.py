@@ -6,7 +6,7 @@ line per scheduler (and per other swept value, e.g. block size); one figure per 
 (NAME-<i>.png when there are several): refinement wall time, speedup T(1)/T(P) (same scheduler),
 time waiting on the scheduler lock, time waiting on element and link locks, refiner
 idle time, and tasks stolen (stealing) per iteration sum. All from runs.csv.
-Usage: schedulers.py RESULT_DIR [--out-dir DIR]
+Usage: schedulers.py RESULT_DIR [--out-dir DIR] [--size page|column] [--caption-in-image]
 """
 import common
 
@@ -31,7 +31,7 @@ for n, scene in enumerate(scenes):
     for r in rows:
         one = base.get((r["scheduler"], r["variant"], 1))
         r["speedup"] = one[0] / r["refine_wall_s"] if one and r["refine_wall_s"] else None
-    fig, axes = common.figure(2, 3, width=2.5, height=2.3)
+    fig, axes = common.figure(2, 3)
     for ax, (column, ylabel, title) in zip(axes, PANELS):
         stats = common.mean_by(rows, ("scheduler", "variant", "threads"), column)
         for key in sorted({k[:2] for k in stats}, key=str):
@@ -42,7 +42,7 @@ for n, scene in enumerate(scenes):
         ax.set_ylabel(ylabel)
         ax.set_ylim(bottom=0)
         ax.set_title(f"{title}: {common.scene_label(scene)}")
-    axes[0].legend(loc="best")
+    common.legend_above(fig, axes[0])
     name = "schedulers" if len(scenes) == 1 else f"schedulers-{n + 1}"
     common.save(fig, args.out_dir, name,
                 common.caption(manifest, rows, "Schedulers side by side"))

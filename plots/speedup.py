@@ -17,7 +17,9 @@ The caption's command then carries --simulated, and the dashed curves' labels sa
 they replay a trace of their own scene and settings (the trace file, `source`).
 With --control CSV (a tools/scaling-check.sh scaling.csv) the machine's limit from its
 hardware control (P x the efficiency of N one-thread solves run at once) is drawn dashed.
+The legends sit under each panel, outside the data.
 Usage: speedup.py RESULT_DIR [--out-dir DIR] [--simulated CSV] [--control CSV]
+                  [--size page|column] [--caption-in-image]
 """
 import os
 
@@ -98,8 +100,8 @@ if args.simulated:
                          if (r["scene"], r.get("scheduler"), r.get("block_size")) == key} - {""})
         a.plot([p[0] for p in pts], [p[1] for p in pts], linestyle="--",
                label=f"simulated (hrad simulate{' of ' + ', '.join(traces) if traces else ''}):"
-                     f"\n{common.scene_label(key[0])}, {key[1]}, block {key[2]}, its own trace's "
-                     "settings,\nnot those of the measured curves" + validation(sim, measured, key))
+                     f" {common.scene_label(key[0])}, {key[1]}, block {key[2]}, its own trace's "
+                     "settings, not those of the measured curves" + validation(sim, measured, key))
         top = max(top, max(p[0] for p in pts))
 ideal(a, top)
 if args.control:
@@ -128,13 +130,12 @@ common.threads_axis(a, common.unique(runs, "threads"), int(top))
 common.threads_axis(b, common.unique(runs, "threads"))
 for ax in (a, b):
     ax.set_ylabel("speedup T(1) / T(P), refinement")
-    ax.legend(loc="upper left")  # above the curves, which run below the ideal diagonal
+    common.legend_below(ax, ncol=2)  # outside the data: no curve is covered
 title = "Speedup (paper Fig. 5)"
 extra = ""
 if args.simulated:
     title += ("; dashed: simulated from a task trace (hrad simulate), whose scene, settings "
               "and revision are its own")
-    extra = f" --simulated {os.path.basename(args.simulated)}"
-if args.control:
-    extra += f" --control {os.path.basename(args.control)}"
+    # hrad experiment passes --simulated on to this script (--control it does not know).
+    extra = f" --simulated {common.as_given(args.simulated)}"
 common.save(fig, args.out_dir, "speedup", common.caption(manifest, runs, title, extra))

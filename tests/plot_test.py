@@ -5,8 +5,10 @@ Usage: plot_test.py SCRIPT DATA_DIR OUT_DIR FIGURE CONFIG LABEL [extra args...]
 Runs SCRIPT on the synthetic result folder DATA_DIR, writing into OUT_DIR, and checks
 that FIGURE.png is a PNG, FIGURE.pdf a PDF and FIGURE.svg an SVG whose text holds the
 axis label LABEL, and that FIGURE.caption.txt names the machine from the manifest and
-says "Regenerate: hrad experiment experiments/configs/CONFIG.json" (the caption is not
-drawn in the figure). A manifest marked quick puts the quick-run mark in the figure.
+says "Regenerate: hrad experiment experiments/configs/CONFIG.json" and "Redraw: python3
+plots/SCRIPT DATA_DIR" with the paths as a command run from the repository root reaches
+them (the caption is not drawn in the figure, but is with --caption-in-image), that
+nothing is drawn beyond the figure's edge, and that --size column gives 3.3 inches. A manifest marked quick puts the quick-run mark in the figure.
 Then checks that the script refuses a folder without
 runs.csv (non-zero exit, no figure written), and that without matplotlib (hidden by a
 stand-in package on PYTHONPATH whose import fails) the script exits non-zero with one
@@ -65,12 +67,40 @@ if "--control" in extra and "machine's limit" not in text:
     fail(f"{svg}: the hardware control's limit is not drawn")
 if extra and "simulated" not in text:
     fail(f"{svg}: the simulated curves are not labelled")
+if "beyond the figure's edge" in r.stderr:
+    fail(f"{script}: {r.stderr.strip()}")
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def as_given(path):
+    """The path as the caption writes it: relative to the repository root inside it."""
+    full = os.path.abspath(path)
+    return os.path.relpath(full, root) if full.startswith(root + os.sep) else full
+
+
+if f"Redraw: python3 plots/{os.path.basename(script)} {as_given(data)}" not in caption:
+    fail(f"{caption_file} lacks the command that redraws the figure:\n{caption}")
 if extra and figure == "speedup":
-    needle = f"--simulated {os.path.basename(extra[extra.index('--simulated') + 1])}"
+    needle = f"--simulated {as_given(extra[extra.index('--simulated') + 1])}"
     if needle not in caption:
         fail(f"{caption_file} lacks {needle!r}")
     if "not those of the measured" not in text:
         fail(f"{svg}: the simulated curves do not say whose settings they have")
+
+# A column-wide figure (3.3 in) with the caption drawn in it: nothing beyond its edge.
+column = tempfile.mkdtemp()
+try:
+    r = subprocess.run([sys.executable, script, data, "--out-dir", column, "--size", "column",
+                        "--caption-in-image", *extra], capture_output=True, text=True)
+    if r.returncode != 0 or "beyond the figure's edge" in r.stderr:
+        fail(f"{script} --size column --caption-in-image: {r.returncode}\n{r.stderr}")
+    svg_text = open(os.path.join(column, figure + ".svg"), encoding="utf-8").read()
+    if "synthetic-host" not in svg_text:
+        fail(f"{script} --caption-in-image: the caption is not drawn")
+    if 'width="237.6pt"' not in svg_text:
+        fail(f"{script} --size column: the SVG is not 3.3 in (237.6 pt) wide")
+finally:
+    shutil.rmtree(column)
 
 # Without matplotlib: one clear line, not a traceback.
 hidden = tempfile.mkdtemp()
