@@ -3,8 +3,10 @@
 // channel, unoccluded F so that shadow boundaries are still refined), is below
 // eps x total emitted power (tightened for a receiver darker than the scene's mean,
 // receiver_threshold); a link with a cluster end that is partly or wholly occluded
-// counts kOccludedClusterWeight times (oracles/oracle.h). Parameters (oracle.bf.KEY):
-// occluded_cluster_weight and dark_floor, the two constants of oracles/oracle.h. Element size
+// counts kOccludedClusterWeight times, and a partly visible surface link whose shadow
+// changes its receiver's light by more than kShadowContrast is refined whatever its
+// power (oracles/oracle.h). Parameters (oracle.bf.KEY): occluded_cluster_weight,
+// dark_floor and shadow_contrast, the three constants of oracles/oracle.h. Element size
 // limits (min_area) are applied by the refiner, for every oracle alike.
 #include "core/hierarchy/element.h"
 #include "oracles/oracle.h"
@@ -16,16 +18,19 @@ class BfOracle final : public IOracle {
  public:
   explicit BfOracle(const PluginParams& p)
       : occluded_weight_(p.get_double("occluded_cluster_weight")),
-        dark_floor_(p.get_double("dark_floor")) {}
+        dark_floor_(p.get_double("dark_floor")),
+        shadow_contrast_(p.get_double("shadow_contrast")) {}
   Verdict judge(const LinkEstimate& l, const OracleThresholds& t) const override {
     const double err = reflected_power_scale(*l.receiver, *l.source) * l.form_factor *
                        occlusion_weight(l, occluded_weight_);
-    return {err < receiver_threshold(l, t, dark_floor_) ? Decision::Accept : Decision::Refine, err};
+    const bool accept =
+        err < receiver_threshold(l, t, dark_floor_) && !shadow_too_sharp(l, shadow_contrast_);
+    return {accept ? Decision::Accept : Decision::Refine, err};
   }
   const char* name() const override { return "bf"; }
 
  private:
-  double occluded_weight_, dark_floor_;
+  double occluded_weight_, dark_floor_, shadow_contrast_;
 };
 
 const bool registered = register_oracle(

@@ -1,6 +1,7 @@
 // What every oracle weighs a link's error by: the power it reflects, and the
-// occlusion weight of links with a cluster end; and the threshold it is compared
-// with, scaled for dark receivers (oracles/oracle.h).
+// occlusion weight of links with a cluster end; the threshold it is compared with,
+// scaled for dark receivers; and the shadow test of partly visible surface links
+// (oracles/oracle.h).
 #include "core/hierarchy/element.h"
 #include "oracles/oracle.h"
 
@@ -32,12 +33,26 @@ double receiver_threshold(const LinkEstimate& l, const OracleThresholds& t, doub
   return t.eps_power * std::clamp(irradiance / t.mean_irradiance, floor, 1.0);
 }
 
+bool shadow_too_sharp(const LinkEstimate& l, double contrast) {
+  const Element& r = *l.receiver;
+  const Element& s = *l.source;
+  if (!(contrast > 0) || r.is_cluster() || s.is_cluster()) return false;
+  if (!(l.visibility > 0 && l.visibility < 1)) return false;
+  const double reflected = (r.B - r.emission).maxCoeff();
+  if (!(reflected > 0)) return false;  // nothing gathered yet: nothing to compare with
+  const double full = (r.rho * s.B).maxCoeff() * l.form_factor;
+  return full * 2 * std::min(l.visibility, 1 - l.visibility) > contrast * reflected;
+}
+
 std::vector<ParamSpec> weighting_params() {
   return {{"occluded_cluster_weight", ParamSpec::Type::Double, kOccludedClusterWeight, 1, 1000,
            "how many times its power an occluded link with a cluster end counts"},
           {"dark_floor", ParamSpec::Type::Double, kDarkThresholdFloor, 0.001, 1,
            "the tightest a dark receiver's threshold gets, as a fraction of eps (1: never "
-           "tightened)"}};
+           "tightened)"},
+          {"shadow_contrast", ParamSpec::Type::Double, kShadowContrast, 0, 1,
+           "a partly visible surface link is refined while its shadow changes its receiver's "
+           "reflected radiosity by more than this fraction (0: never)"}};
 }
 
 }  // namespace hrad

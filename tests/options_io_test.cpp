@@ -58,7 +58,8 @@ SolverOptions non_default_options() {
   // The selected plug-ins' own parameters (every one they declare).
   o.plugin_params = {{"scheduler.stealing.victims", "3"},
                      {"oracle.error.occluded_cluster_weight", "2.5"},
-                     {"oracle.error.dark_floor", "0.5"}};
+                     {"oracle.error.dark_floor", "0.5"},
+                     {"oracle.error.shadow_contrast", "0.125"}};
   return o;
 }
 

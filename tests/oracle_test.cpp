@@ -212,6 +212,50 @@ TEST(Oracle, ErrorOracleWeighsSpreadAndPartialVisibility) {
   EXPECT_EQ(oracle->judge(LinkEstimate{&rs, &ss, f, 1, 0}, t).error, 0.0);
 }
 
+// The shadow test (kShadowContrast): a partly visible surface pair is refined while
+// the radiosity it would bring at full visibility, rho_r B_s F, times 2 min(V, 1 - V)
+// exceeds the contrast times the receiver's reflected radiosity B_r - E_r. Here
+// rho_r B_s F = 0.5 x 8 x 0.125 = 0.5 and B_r - E_r = 1.25 - 0.25 = 1, so at V = 1/4 the
+// shadow is 0.5 x 0.5 = 0.25 of the receiver's light: refined at a contrast just
+// under 0.25, not at 0.25 (strictly above). Dyadic values: exact, tolerance 0.
+TEST(Oracle, SharpShadowsAcrossSurfaceReceiversAreRefined) {
+  Element r, s, c;
+  set(r, ElementKind::Surface, 2.0, 0.5, 1.25);
+  r.emission = Rgb::Constant(0.25);
+  set(s, ElementKind::Surface, 1.0, 0.5, 8.0);
+  set(c, ElementKind::Cluster, 1.0, 0.5, 8.0);
+  const double f = 0.125;
+  const double just_under = std::nextafter(0.25, 0.0);
+  for (const double v : {0.25, 0.75}) {  // 2 min(V, 1 - V) = 1/2 either way
+    const LinkEstimate l{&r, &s, f, v, 0};
+    EXPECT_TRUE(shadow_too_sharp(l, just_under)) << "V " << v;
+    EXPECT_FALSE(shadow_too_sharp(l, 0.25)) << "V " << v;
+  }
+  EXPECT_TRUE(shadow_too_sharp(LinkEstimate{&r, &s, f, 0.5, 0}, just_under * 2));
+  // Wholly open or hidden pairs, cluster ends, a contrast of 0 and a receiver that has
+  // gathered nothing yet (B = E) are never refined by it.
+  for (const double v : {0.0, 1.0}) EXPECT_FALSE(shadow_too_sharp(LinkEstimate{&r, &s, f, v, 0}));
+  EXPECT_FALSE(shadow_too_sharp(LinkEstimate{&r, &c, f, 0.5, 0}));
+  EXPECT_FALSE(shadow_too_sharp(LinkEstimate{&c, &s, f, 0.5, 0}));
+  EXPECT_FALSE(shadow_too_sharp(LinkEstimate{&r, &s, f, 0.5, 0}, 0.0));
+  Element dark;
+  set(dark, ElementKind::Surface, 2.0, 0.5, 0.25);
+  dark.emission = Rgb::Constant(0.25);
+  EXPECT_FALSE(shadow_too_sharp(LinkEstimate{&dark, &s, f, 0.5, 0}));
+  // Both oracles refine such a link whatever its power (error rho_r B_s A_r F = 0.5 x 8
+  // x 2 x 0.125 = 1 in both, under a threshold of 4), and accept it with the test off.
+  for (const char* name : {"bf", "error"}) {
+    SCOPED_TRACE(name);
+    const LinkEstimate l{&r, &s, f, 0.5, 0};
+    const Verdict v = make_oracle(name)->judge(l, OracleThresholds{4.0});
+    EXPECT_EQ(v.decision, Decision::Refine);
+    EXPECT_EQ(v.error, 1.0);
+    EXPECT_EQ(
+        make_oracle(name, {{"shadow_contrast", "0"}})->judge(l, OracleThresholds{4.0}).decision,
+        Decision::Accept);
+  }
+}
+
 // The registry: each oracle by its name, with its own name and spread needs; the names
 // listed in order; an unknown name is an error that lists the known ones.
 TEST(Oracle, RegistryMakesEachOracleByName) {

@@ -243,7 +243,11 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
     known = true;
   }
   Verdict v = oracle_.judge(est, th);
-  if (depends && limits_.independent_estimates) {
+  // A surface pair always gets an independent estimate where its decision depended on
+  // its visibility (the shadow test, kShadowContrast): otherwise the accepted ones would
+  // be those whose rays found the pair more open or more hidden than it is.
+  const bool surfaces = !r.is_cluster() && !s.is_cluster();
+  if (depends && (limits_.independent_estimates || surfaces)) {
     // Decide on the first rays (a reloaded link may hold the second), and if the
     // link is accepted, estimate its visibility from the second (RefineLimits).
     if (task.evaluated) {

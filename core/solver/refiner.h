@@ -43,12 +43,13 @@ struct RefineLimits {
   /// Emitted power over total area: what a receiver's irradiance is compared with
   /// (OracleThresholds::mean_irradiance); 0: thresholds are not scaled.
   double mean_irradiance = 0;
-  /// Where the oracle's decision on a link depended on its visibility estimate (it
-  /// would decide otherwise at V = 0, 1/2 or 1), an accepted link's visibility is
-  /// estimated again from rays independent of the ones decided on (decision_rays =
-  /// independent). With shared rays the accepted links are those whose rays happened
-  /// to find the pair more open, and their estimates are biased high; the link set is
-  /// the same either way, since the decision always reads the first rays.
+  /// Where the oracle's decision on a link with a cluster end depended on its
+  /// visibility estimate (it would decide otherwise at V = 0, 1/2 or 1), an accepted
+  /// link's visibility is estimated again from rays independent of the ones decided on
+  /// (decision_rays = independent; a surface pair always is). With shared rays the
+  /// accepted links are those whose rays happened to find the pair more open, and their
+  /// estimates are biased high; the link set is the same either way, since the decision
+  /// always reads the first rays.
   bool independent_estimates = false;
   /// min_area is a share of the whole scene's area; where most of it lies elsewhere (a
   /// room beside a 200 x 200 ground plane: min_area 4 units^2, each wall 1), it kept a
