@@ -206,7 +206,7 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
       "reference",
       "Path-traced reference irradiance at probe points (writes probes.csv, reference.json).");
   sub->add_option("SCENE", args->scene,
-                  "Scene: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[?k=v&...]")
+                  "Scene: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[,k=v,...]")
       ->required();
   CLI::Option* probes =
       sub->add_option("--probes", args->probes,

@@ -16,6 +16,7 @@ import csv
 import json
 import math
 import os
+import re
 import statistics
 import sys
 
@@ -91,11 +92,13 @@ def load_result(result_dir):
 
 
 def scene_label(spec):
-    """'builtin:office?desks=2' -> 'office (desks=2)'; a file path -> its name."""
+    """'builtin:office,desks=2,lights=1' (or 'builtin:office?desks=2&lights=1') ->
+    'office (desks=2, lights=1)'; a file path -> its name."""
     spec = str(spec)
     if spec.startswith("builtin:"):
-        name, _, params = spec[len("builtin:"):].partition("?")
-        return f"{name} ({params.replace('&', ', ')})" if params else name
+        parts = re.split(r"[?&,]", spec[len("builtin:"):])
+        name, params = parts[0], [p for p in parts[1:] if p]
+        return f"{name} ({', '.join(params)})" if params else name
     return os.path.basename(spec)
 
 
