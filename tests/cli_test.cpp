@@ -115,6 +115,49 @@ TEST_F(Cli, FirstHourTraps) {
   EXPECT_EQ(up["camera"]["up"], nlohmann::json::array({1.0, 0.0, 0.0}));
 }
 
+// Command-line errors in hrad's words, naming the option, none of CLI11's wording
+// ("The following arguments were not expected", "Value x not in range", "required ...
+// missing", "A subcommand is required"); the exit statuses stay as they were.
+TEST_F(Cli, ParseErrorsNameTheOptionInPlainWords) {
+  const auto says = [](const Result& r, const std::string& text) {
+    EXPECT_TRUE(contains(r.err, text)) << r.err;
+    for (const char* cli11 :
+         {"not expected", "not in range", "required", "subcommand", "Could not convert"})
+      EXPECT_FALSE(contains(r.err, cli11)) << r.err;
+  };
+  Result r = hrad("solve builtin:cornell --bogus 1 --out run");
+  EXPECT_EQ(r.status, 109);
+  says(r, "hrad: solve: unknown option --bogus (see hrad solve --help)\n");
+  r = hrad("solve builtin:cornell --thread 2 --out run");
+  EXPECT_EQ(r.status, 109);
+  says(r, "hrad: solve: unknown option --thread (did you mean --threads?) (see hrad solve --help)");
+  r = hrad("solve builtin:cornell extra --out run");
+  EXPECT_EQ(r.status, 109);
+  says(r, "hrad: solve: unexpected argument 'extra' (see hrad solve --help)");
+  r = hrad("solve builtin:cornell --out");
+  EXPECT_NE(r.status, 0);
+  says(r, "hrad: solve: --out needs a value (DIR) (see hrad solve --help)");
+  r = hrad("solve");
+  EXPECT_NE(r.status, 0);
+  says(r, "hrad: solve: SCENE is missing (see hrad solve --help)");
+  r = hrad("reference builtin:cornell --random-probes x --out ref");
+  EXPECT_EQ(r.status, 1);
+  says(r, "hrad: reference: --random-probes: 'x' is not a number in 1..1048576");
+  r = hrad("reference builtin:cornell --random-probes 0 --out ref");
+  EXPECT_EQ(r.status, 1);
+  says(r, "hrad: reference: --random-probes: 0 is outside 1..1048576");
+  r = hrad("reference builtin:cornell --random-probes 2 --rel-error abc --out ref");
+  EXPECT_EQ(r.status, 1);
+  says(r, "hrad: reference: --rel-error: 'abc' is not a number in 1e-06..1");
+  r = hrad("experiment e.json --rank-cores some");
+  EXPECT_EQ(r.status, 1);
+  says(r, "hrad: experiment: --rank-cores: 'some' is not one of share, inherit");
+  r = hrad("--bogus");
+  EXPECT_EQ(r.status, 106);
+  says(r, "hrad: unknown option --bogus (see hrad --help)");
+  EXPECT_EQ(entries(), 0);
+}
+
 TEST_F(Cli, MissingSceneFileNamesItAndCreatesNoFolder) {
   Result r = hrad("solve no_such_scene.obj --out run");
   EXPECT_EQ(r.status, 1);
