@@ -134,7 +134,8 @@ def caption(manifest, rows, figure, extra_flags=""):
     m = manifest.get("machine", {})
     exp = manifest.get("experiment", {})
     hrad = manifest.get("hrad", {})
-    cpu = str(m.get("cpu", "?")).removeprefix("this machine: ")
+    # Blanks tidied: older manifests kept the CPU model's padding.
+    cpu = " ".join(str(m.get("cpu", "?")).removeprefix("this machine: ").split())
     machine = f"{m.get('hostname', '?')} ({cpu}, {m.get('pus_online', '?')} PUs)"
     scenes = ", ".join(scene_label(s) for s in unique(rows, "scene"))
     config = exp.get("config_file") or "experiments/configs/<config>.json"
