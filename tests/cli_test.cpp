@@ -340,6 +340,31 @@ TEST_F(Cli, BuiltinParametersNeedNoQuoting) {
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 
+// What a person reads gives relative errors in percent, as `hrad compare` does; the
+// files keep fractions.
+TEST_F(Cli, ReferenceAndExperimentPrintPercent) {
+  Result r = hrad("reference builtin:furnace --random-probes 3 --rel-error 0.05 --out ref");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "converged to 5 % relative error")) << r.out;
+  EXPECT_FALSE(contains(r.out, "0.05")) << r.out;
+  const auto j = nlohmann::json::parse(read_text(dir_ / "ref" / "reference.json"));
+  EXPECT_EQ(j["options"]["rel_error"], 0.05);
+  r = hrad(
+      "reference builtin:furnace --random-probes 2 --rel-error 1e-6 --max-samples 1024 --out "
+      "short");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "did not reach 0.0001 % relative error")) << r.err;
+
+  write("p.txt", "0.5 0.01 0.5 0 1 0\n");
+  write("e.json", R"({"name": "e", "scenes": ["builtin:furnace,objects=0"],
+    "settings": {"iterations": 1},
+    "accuracy": {"probes": "p.txt", "reference_rel_error": 0.05}})");
+  r = hrad("experiment e.json --out x --no-plot");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out + r.err, "(1 probes, 5 % relative error)")) << r.out << r.err;
+  EXPECT_FALSE(contains(r.out + r.err, "0.05 relative")) << r.out << r.err;
+}
+
 TEST_F(Cli, TopologyHonoursSyntheticMachines) {
   Result r = hrad("topology");
   EXPECT_EQ(r.status, 0) << r.err;
