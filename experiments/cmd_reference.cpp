@@ -9,6 +9,7 @@
 // and in reference.json, but the run still succeeds (status 0).
 #include "core/base/atomic_file.h"
 #include "core/base/interrupt.h"
+#include "core/base/percent.h"
 #include "core/base/progress.h"
 #include "core/config/options_io.h"
 #include "core/output/stats_json.h"
@@ -174,15 +175,16 @@ int run_reference(ReferenceArgs& a, const CommandContext& ctx) {
       }
     if (short_of_samples > 0)
       fmt::print(stderr,
-                 "hrad: warning: {} of {} probes did not reach relative error {} within {} "
+                 "hrad: warning: {} of {} probes did not reach {} relative error within {} "
                  "samples (0-based): {}\n",
-                 short_of_samples, probes.size(), a.options.rel_error, a.options.max_samples, list);
+                 short_of_samples, probes.size(), percent_text(a.options.rel_error),
+                 a.options.max_samples, list);
     if (!a.quiet)
       fmt::print(
           "Reference for {}: {} probes, {} paths, {} rays in {:.3g} s ({} round{}), {} "
-          "converged to relative error {}. Results in {}: probes.csv, reference.json.\n",
+          "converged to {} relative error. Results in {}: probes.csv, reference.json.\n",
           a.scene, probes.size(), total, r.rays, r.seconds, r.rounds, r.rounds == 1 ? "" : "s",
-          probes.size() - unconverged.size(), a.options.rel_error, out.string());
+          probes.size() - unconverged.size(), percent_text(a.options.rel_error), out.string());
   } catch (const std::exception& e) {
     std::error_code ec;
     const bool remove = created && fs::is_empty(out, ec);
@@ -206,7 +208,7 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
       "reference",
       "Path-traced reference irradiance at probe points (writes probes.csv, reference.json).");
   sub->add_option("SCENE", args->scene,
-                  "Scene: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[?k=v&...]")
+                  "Scene: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[,k=v,...]")
       ->required();
   CLI::Option* probes =
       sub->add_option("--probes", args->probes,
@@ -225,7 +227,7 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
       ->required();
   sub->add_option("--rel-error", args->options.rel_error,
                   "Stop a probe when its standard error is below this fraction of its "
-                  "irradiance (per channel, with the floor) [default: 0.01]")
+                  "irradiance (per channel, with the floor; 0.01 is 1 %) [default: 0.01]")
       ->type_name("X")
       ->check(number_in(1e-6, 1));
   sub->add_option("--floor", args->options.abs_floor,

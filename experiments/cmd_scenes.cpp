@@ -17,9 +17,11 @@ std::string number(double v, bool integer) {
 void print_scenes() {
   fmt::print(
       "Built-in scenes. Use them as the SCENE of 'hrad solve', with optional\n"
-      "parameters: builtin:NAME or 'builtin:NAME?key=value&key=value', in quotes\n"
-      "(e.g. 'builtin:office?desks=40&lights=6': unquoted, the shell would run the\n"
-      "command in the background at '&'). Every scene is a pure function of its spec.\n");
+      "parameters: builtin:NAME or builtin:NAME,key=value,key=value\n"
+      "(e.g. builtin:office,desks=40,lights=6). The form\n"
+      "'builtin:NAME?key=value&key=value' works too, in quotes (unquoted, the shell\n"
+      "would run the command in the background at '&'). Every scene is a pure function\n"
+      "of its spec.\n");
   for (const BuiltinInfo& s : builtin_scenes()) {
     fmt::print("\nbuiltin:{}\n  {}\n", s.name, s.description);
     if (s.params.empty()) {

@@ -478,7 +478,7 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
   CLI::App* sub = app.add_subcommand(
       "solve", "Solve one scene and write stats.json, solution.ply and render.png.");
   sub->add_option("SCENE", args->scene,
-                  "Scene to solve: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[?k=v&...] "
+                  "Scene to solve: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[,k=v,...] "
                   "(see 'hrad scenes')")
       ->required();
 

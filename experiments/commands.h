@@ -45,6 +45,13 @@ CLI::Validator positive_number();
 /// lo and hi inclusive, checked on the text before CLI11 converts it.
 CLI::Validator number_in(double lo, double hi);
 
+/// A command-line parse error in hrad's words, naming the command and the option:
+/// "solve: unknown option --bogus (see hrad solve --help)", "reference:
+/// --random-probes: 'x' is not a number in 1..1048576 (see hrad reference --help)",
+/// "solve: --out needs a value (DIR) (see hrad solve --help)" (cli_errors.cpp).
+std::string parse_error_text(const CLI::ParseError& e, const CLI::App& app,
+                             const std::vector<std::string>& argv);
+
 /// Prints "hrad: MESSAGE" to stderr, MESSAGE cut to kMaxErrorChars (a message that
 /// echoes a huge input value stays readable).
 void print_error(std::string_view message);

@@ -1,11 +1,8 @@
 // hrad: the command-line front end. Subcommands live in cmd_*.cpp (see commands.h).
 #include "experiments/commands.h"
 
-#include "core/config/options_io.h"
-
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
@@ -42,10 +39,9 @@ CLI::Validator number_in(double lo, double hi) {
         const char* end = text.data() + text.size();
         const auto r = std::from_chars(text.data(), end, v);
         if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v))
-          return "'" + text + "' is not a finite number";
-        return v >= lo && v <= hi
-                   ? std::string()
-                   : fmt::format("must be between {:g} and {:g}, not {}", lo, hi, text);
+          return fmt::format("'{}' is not a number in {:g}..{:g}", text, lo, hi);
+        return v >= lo && v <= hi ? std::string()
+                                  : fmt::format("{} is outside {:g}..{:g}", text, lo, hi);
       },
       fmt::format("{:g} .. {:g}", lo, hi));
 }
@@ -70,27 +66,6 @@ bool make_output_folder(const std::filesystem::path& out, bool& created) {
     return false;
   }
   return true;
-}
-
-// A command-line error in hrad's words: which command, CLI11's message, and a hint
-// where a flag names a configuration key that has no flag of its own.
-std::string parse_error_text(const std::string& what, const std::vector<std::string>& argv) {
-  const std::string command = argv.size() > 1 && argv[1][0] != '-' ? argv[1] : "";
-  std::string text = fmt::format("{}{}", command.empty() ? "" : command + ": ", what);
-  for (std::size_t i = 2; i < argv.size(); ++i) {
-    const std::string& word = argv[i];
-    if (word.rfind("--", 0) != 0) continue;
-    std::string key = word.substr(
-        2, word.find('=') == std::string::npos ? std::string::npos : word.find('=') - 2);
-    std::replace(key.begin(), key.end(), '-', '_');
-    if ((command == "solve" || command == "experiment") && find_option(key) != nullptr &&
-        what.find(word.substr(0, word.find('='))) != std::string::npos)
-      text += fmt::format(
-          " ({} is a configuration key without a flag of its own: use --set "
-          "{}=VALUE)",
-          key, key);
-  }
-  return text + fmt::format(" (see hrad {}--help)", command.empty() ? "" : command + " ");
 }
 
 }  // namespace hrad::cli
@@ -141,7 +116,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
-    print_error(parse_error_text(e.what(), ctx.argv));
+    print_error(parse_error_text(e, app, ctx.argv));
     // A value out of range or not a number is bad input, as hrad's own checks say it
     // (status 1: `reference --threads 0` gave 105 where `solve --threads 0` gave 1);
     // CLI11's codes are kept for the command line's syntax (109: an unexpected argument).

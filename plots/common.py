@@ -22,6 +22,7 @@ import csv
 import json
 import math
 import os
+import re
 import statistics
 import sys
 import textwrap
@@ -144,11 +145,13 @@ def load_result(result_dir):
 
 
 def scene_label(spec):
-    """'builtin:office?desks=2' -> 'office (desks=2)'; a file path -> its name."""
+    """'builtin:office,desks=2,lights=1' (or 'builtin:office?desks=2&lights=1') ->
+    'office (desks=2, lights=1)'; a file path -> its name."""
     spec = str(spec)
     if spec.startswith("builtin:"):
-        name, _, params = spec[len("builtin:"):].partition("?")
-        return f"{name} ({params.replace('&', ', ')})" if params else name
+        parts = re.split(r"[?&,]", spec[len("builtin:"):])
+        name, params = parts[0], [p for p in parts[1:] if p]
+        return f"{name} ({', '.join(params)})" if params else name
     return os.path.basename(spec)
 
 
@@ -198,7 +201,8 @@ def caption(manifest, rows, figure, extra_flags="", plot_flags=""):
     m = manifest.get("machine", {})
     exp = manifest.get("experiment", {})
     hrad = manifest.get("hrad", {})
-    cpu = str(m.get("cpu", "?")).removeprefix("this machine: ")
+    # Blanks tidied: older manifests kept the CPU model's padding.
+    cpu = " ".join(str(m.get("cpu", "?")).removeprefix("this machine: ").split())
     machine = f"{m.get('hostname', '?')} ({cpu}, {m.get('pus_online', '?')} PUs)"
     scenes = ", ".join(scene_label(s) for s in unique(rows, "scene"))
     config = exp.get("config_file") or "experiments/configs/<config>.json"

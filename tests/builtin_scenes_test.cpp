@@ -171,6 +171,51 @@ TEST(BuiltinRegistry, AcceptsGoodParameters) {
   EXPECT_EQ(s.polygon_count(), 6u);
 }
 
+// The comma form needs no quoting in a shell; the '?'/'&' form still works, and the two
+// may be mixed. Either way the scene is the same.
+TEST(BuiltinRegistry, CommaFormMatchesQueryForm) {
+  const Scene comma = make_builtin("builtin:furnace,rho=0.25,emission=3,objects=0");
+  const Scene query = make_builtin("builtin:furnace?rho=0.25&emission=3&objects=0");
+  const Scene mixed = make_builtin("builtin:furnace?rho=0.25,emission=3&objects=0");
+  EXPECT_EQ(comma.source, "builtin:furnace,rho=0.25,emission=3,objects=0");
+  for (const Scene* s : {&query, &mixed}) {
+    EXPECT_EQ(s->polygon_count(), comma.polygon_count());
+    EXPECT_EQ(s->materials[0].reflectance[0], comma.materials[0].reflectance[0]);
+    EXPECT_EQ(s->materials[0].emission[0], comma.materials[0].emission[0]);
+  }
+  EXPECT_EQ(make_builtin("builtin:cornell,blocks=0").polygon_count(), 6u);
+  const auto has = [](const std::string& msg, const std::string& part) {
+    return msg.find(part) != std::string::npos;
+  };
+  EXPECT_TRUE(has(error_for("builtin:office,chairs=3"), "unknown parameter 'chairs'"));
+  EXPECT_TRUE(has(error_for("builtin:office,desks=3,desks=4"), "given twice"));
+  EXPECT_TRUE(has(error_for("builtin:office,desks=3,"), "empty parameter"));
+  EXPECT_TRUE(has(error_for("builtin:office,"), "empty parameter"));
+  EXPECT_TRUE(has(error_for("builtin:nosuch,desks=3"), "unknown builtin scene 'nosuch'"));
+}
+
+TEST(BuiltinRegistry, SpecHelpersKnowBothForms) {
+  EXPECT_EQ(builtin_base("builtin:office,desks=4"), "builtin:office");
+  EXPECT_EQ(builtin_base("builtin:office?desks=4&lights=2"), "builtin:office");
+  EXPECT_EQ(builtin_base("builtin:office"), "builtin:office");
+  EXPECT_EQ(builtin_base("rooms/a,b.obj"), "rooms/a,b.obj");
+  EXPECT_EQ(normal_builtin_spec("builtin:office?desks=4&lights=2"),
+            "builtin:office,desks=4,lights=2");
+  EXPECT_EQ(normal_builtin_spec("builtin:office,desks=4"), "builtin:office,desks=4");
+  EXPECT_EQ(normal_builtin_spec("a?b&c.obj"), "a?b&c.obj");
+  using V = std::vector<std::string>;
+  EXPECT_EQ(split_scene_list("builtin:furnace,builtin:cornell"),
+            (V{"builtin:furnace", "builtin:cornell"}));
+  EXPECT_EQ(split_scene_list("builtin:cornell,blocks=0,light=2,room.obj,builtin:office,desks=4"),
+            (V{"builtin:cornell,blocks=0,light=2", "room.obj", "builtin:office,desks=4"}));
+  EXPECT_EQ(split_scene_list("builtin:office?desks=4&lights=2,x.mgf"),
+            (V{"builtin:office?desks=4&lights=2", "x.mgf"}));
+  // A file's "name=value" piece is not a parameter; empty pieces are dropped.
+  EXPECT_EQ(split_scene_list("a.obj,b=1.obj,,builtin:lab,"),
+            (V{"a.obj", "b=1.obj", "builtin:lab"}));
+  EXPECT_TRUE(split_scene_list(",").empty());
+}
+
 // --- every scene with its defaults -------------------------------------------------
 
 class BuiltinDefaults : public ::testing::TestWithParam<std::string> {};

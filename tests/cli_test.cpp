@@ -115,6 +115,49 @@ TEST_F(Cli, FirstHourTraps) {
   EXPECT_EQ(up["camera"]["up"], nlohmann::json::array({1.0, 0.0, 0.0}));
 }
 
+// Command-line errors in hrad's words, naming the option, none of CLI11's wording
+// ("The following arguments were not expected", "Value x not in range", "required ...
+// missing", "A subcommand is required"); the exit statuses stay as they were.
+TEST_F(Cli, ParseErrorsNameTheOptionInPlainWords) {
+  const auto says = [](const Result& r, const std::string& text) {
+    EXPECT_TRUE(contains(r.err, text)) << r.err;
+    for (const char* cli11 :
+         {"not expected", "not in range", "required", "subcommand", "Could not convert"})
+      EXPECT_FALSE(contains(r.err, cli11)) << r.err;
+  };
+  Result r = hrad("solve builtin:cornell --bogus 1 --out run");
+  EXPECT_EQ(r.status, 109);
+  says(r, "hrad: solve: unknown option --bogus (see hrad solve --help)\n");
+  r = hrad("solve builtin:cornell --thread 2 --out run");
+  EXPECT_EQ(r.status, 109);
+  says(r, "hrad: solve: unknown option --thread (did you mean --threads?) (see hrad solve --help)");
+  r = hrad("solve builtin:cornell extra --out run");
+  EXPECT_EQ(r.status, 109);
+  says(r, "hrad: solve: unexpected argument 'extra' (see hrad solve --help)");
+  r = hrad("solve builtin:cornell --out");
+  EXPECT_NE(r.status, 0);
+  says(r, "hrad: solve: --out needs a value (DIR) (see hrad solve --help)");
+  r = hrad("solve");
+  EXPECT_NE(r.status, 0);
+  says(r, "hrad: solve: SCENE is missing (see hrad solve --help)");
+  r = hrad("reference builtin:cornell --random-probes x --out ref");
+  EXPECT_EQ(r.status, 1);
+  says(r, "hrad: reference: --random-probes: 'x' is not a number in 1..1048576");
+  r = hrad("reference builtin:cornell --random-probes 0 --out ref");
+  EXPECT_EQ(r.status, 1);
+  says(r, "hrad: reference: --random-probes: 0 is outside 1..1048576");
+  r = hrad("reference builtin:cornell --random-probes 2 --rel-error abc --out ref");
+  EXPECT_EQ(r.status, 1);
+  says(r, "hrad: reference: --rel-error: 'abc' is not a number in 1e-06..1");
+  r = hrad("experiment e.json --rank-cores some");
+  EXPECT_EQ(r.status, 1);
+  says(r, "hrad: experiment: --rank-cores: 'some' is not one of share, inherit");
+  r = hrad("--bogus");
+  EXPECT_EQ(r.status, 106);
+  says(r, "hrad: unknown option --bogus (see hrad --help)");
+  EXPECT_EQ(entries(), 0);
+}
+
 TEST_F(Cli, MissingSceneFileNamesItAndCreatesNoFolder) {
   Result r = hrad("solve no_such_scene.obj --out run");
   EXPECT_EQ(r.status, 1);
@@ -269,8 +312,57 @@ TEST_F(Cli, ScenesListsBuiltinsAndFormats) {
   const Result r = hrad("scenes");
   EXPECT_EQ(r.status, 0) << r.err;
   for (const char* s : {"builtin:cornell", "builtin:furnace", "builtin:office", "builtin:lab",
-                        "builtin:cabin", "default", "range", ".obj", ".mgf", "pi * Ke"})
+                        "builtin:cabin", "default", "range", ".obj", ".mgf", "pi * Ke",
+                        "builtin:office,desks=40,lights=6", "'builtin:NAME?key=value&key=value'"})
     EXPECT_TRUE(contains(r.out, s)) << s;
+}
+
+// A built-in scene's parameters with commas: no quoting in the shell (the fixture runs
+// the command through sh), the same scene as the quoted '?' and '&' form, and the
+// spec kept as given in stats.json.
+TEST_F(Cli, BuiltinParametersNeedNoQuoting) {
+  Result r = hrad("solve builtin:cornell,blocks=0,light=2 --iterations 1 --out comma --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = hrad("solve 'builtin:cornell?blocks=0&light=2' --iterations 1 --out query --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto comma = nlohmann::json::parse(read_text(dir_ / "comma" / "stats.json"));
+  const auto query = nlohmann::json::parse(read_text(dir_ / "query" / "stats.json"));
+  EXPECT_EQ(comma["scene"]["source"], "builtin:cornell,blocks=0,light=2");
+  EXPECT_EQ(comma["scene"]["name"], "cornell");
+  EXPECT_EQ(comma["scene"]["polygons"], 6);
+  EXPECT_EQ(comma["scene"]["polygons"], query["scene"]["polygons"]);
+  EXPECT_EQ(comma["scene"]["emitted_power"], query["scene"]["emitted_power"]);
+  r = hrad("solve builtin:cornell,blocks=0,nosuch=1 --out bad");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "unknown parameter 'nosuch'")) << r.err;
+  r = hrad("solve cornell,blocks=0 --out bad");
+  EXPECT_TRUE(contains(r.err, "did you mean builtin:cornell,blocks=0?")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
+// What a person reads gives relative errors in percent, as `hrad compare` does; the
+// files keep fractions.
+TEST_F(Cli, ReferenceAndExperimentPrintPercent) {
+  Result r = hrad("reference builtin:furnace --random-probes 3 --rel-error 0.05 --out ref");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "converged to 5 % relative error")) << r.out;
+  EXPECT_FALSE(contains(r.out, "0.05")) << r.out;
+  const auto j = nlohmann::json::parse(read_text(dir_ / "ref" / "reference.json"));
+  EXPECT_EQ(j["options"]["rel_error"], 0.05);
+  r = hrad(
+      "reference builtin:furnace --random-probes 2 --rel-error 1e-6 --max-samples 1024 --out "
+      "short");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "did not reach 0.0001 % relative error")) << r.err;
+
+  write("p.txt", "0.5 0.01 0.5 0 1 0\n");
+  write("e.json", R"({"name": "e", "scenes": ["builtin:furnace,objects=0"],
+    "settings": {"iterations": 1},
+    "accuracy": {"probes": "p.txt", "reference_rel_error": 0.05}})");
+  r = hrad("experiment e.json --out x --no-plot");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out + r.err, "(1 probes, 5 % relative error)")) << r.out << r.err;
+  EXPECT_FALSE(contains(r.out + r.err, "0.05 relative")) << r.out << r.err;
 }
 
 TEST_F(Cli, TopologyHonoursSyntheticMachines) {

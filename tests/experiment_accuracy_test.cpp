@@ -65,6 +65,10 @@ TEST(ExperimentAccuracy, BlockParsesBothForms) {
   EXPECT_EQ(accuracy_probe_file(map.accuracy, "builtin:furnace?rho=0.9"), fs::path("f9.txt"));
   EXPECT_EQ(accuracy_probe_file(map.accuracy, "builtin:furnace"), fs::path("f.txt"));
   EXPECT_TRUE(accuracy_probe_file(map.accuracy, "builtin:lab").empty());
+  // A scene's parameters in the comma form find the entry written with '?' and '&'.
+  EXPECT_EQ(accuracy_probe_file(map.accuracy, "builtin:office,desks=2"), fs::path("o.txt"));
+  EXPECT_EQ(accuracy_probe_file(map.accuracy, "builtin:furnace,rho=0.9"), fs::path("f9.txt"));
+  EXPECT_EQ(accuracy_probe_file(map.accuracy, "builtin:furnace,rho=0.5"), fs::path("f.txt"));
   // Relative paths are relative to the config file's folder.
   map.accuracy.base_dir = "/some/dir";
   EXPECT_EQ(accuracy_probe_file(map.accuracy, "builtin:cornell"), fs::path("/some/dir/c.txt"));
@@ -117,10 +121,10 @@ TEST(ExperimentAccuracy, BadBlocksAreNamedErrors) {
 
 TEST(ExperimentAccuracy, ColumnsAreAppendedAndEmptyWithoutTheBlock) {
   const auto& rc = run_columns();
-  const std::vector<std::string> tail(rc.end() - 8, rc.end());
+  const std::vector<std::string> tail(rc.end() - 11, rc.end());
   EXPECT_EQ(tail, (std::vector<std::string>{"started_at", "probe_err_mean", "probe_err_max",
                                             "probe_err_rms", "probe_s", "warnings", "host",
-                                            "hrad_revision"}));
+                                            "hrad_revision", "cpu_model", "cores", "load_avg"}));
   SweepPoint p;
   p.scene = "builtin:cornell";
   RunStats stats;
@@ -136,6 +140,8 @@ TEST(ExperimentAccuracy, ColumnsAreAppendedAndEmptyWithoutTheBlock) {
   EXPECT_EQ(some.run[column_index(rc, "probe_err_rms")], "0.375");
   EXPECT_EQ(some.run[column_index(rc, "probe_s")], "0.125");
   EXPECT_EQ(reference_file_name("builtin:office?desks=4&lights=2"),
+            "reference-builtin_office_desks_4_lights_2.csv");
+  EXPECT_EQ(reference_file_name("builtin:office,desks=4,lights=2"),
             "reference-builtin_office_desks_4_lights_2.csv");
 }
 

@@ -184,6 +184,10 @@ TEST(ExperimentConfig, SetOverrides) {
   EXPECT_EQ(c.repetitions, 5);
   apply_experiment_set(c, "scenes=builtin:furnace,builtin:cornell");
   EXPECT_EQ(c.scenes.size(), 2u);
+  // A builtin scene's comma-form parameters stay with it.
+  apply_experiment_set(c, "scenes=builtin:furnace,rho=0.5,objects=0,builtin:cornell,blocks=0");
+  EXPECT_EQ(c.scenes, (std::vector<std::string>{"builtin:furnace,rho=0.5,objects=0",
+                                                "builtin:cornell,blocks=0"}));
   apply_experiment_set(c, "sweep.threads=1,2");
   ASSERT_EQ(c.sweep.size(), 2u);
   EXPECT_EQ(c.sweep[1].key, "threads");

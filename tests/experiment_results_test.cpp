@@ -28,6 +28,11 @@ TEST(ExperimentCsv, QuotesOnlyWhenNeeded) {
   EXPECT_EQ(csv_line({"a", "1.5", ""}), "a,1.5,\n");
   EXPECT_EQ(csv_line({"x,y", "say \"hi\"", " pad"}), "\"x,y\",\"say \"\"hi\"\"\",\" pad\"\n");
   EXPECT_EQ(csv_line({"builtin:office?desks=2&lights=1"}), "builtin:office?desks=2&lights=1\n");
+  // A scene's comma-form parameters stay in its one field.
+  EXPECT_EQ(csv_line({"builtin:office,desks=2,lights=1", "x"}),
+            "\"builtin:office,desks=2,lights=1\",x\n");
+  EXPECT_EQ(parse_csv(csv_line({"builtin:office,desks=2", "x"})).rows,
+            (std::vector<std::vector<std::string>>{{"builtin:office,desks=2", "x"}}));
 }
 
 TEST(ExperimentCsv, RoundTripAndTruncation) {

@@ -4,6 +4,7 @@
 // interrupted experiment resumes without redoing finished runs. Also the CLI.
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/csv.h"
+#include "experiments/harness/manifest.h"
 #include "experiments/harness/result_files.h"
 #include "experiments/harness/run_rows.h"
 #include "experiments/harness/time_estimate.h"
@@ -74,10 +75,22 @@ TEST(ExperimentRunner, RunsEveryPointAndWritesTheFiles) {
     EXPECT_EQ(r[column_index(rc, "eps")], "0.01");
     EXPECT_EQ(r[column_index(rc, "hrad_revision")], "abc");  // inputs_for's
     EXPECT_FALSE(r[column_index(rc, "host")].empty());
+    // This host's figures, as the manifest records them; the load at the run's start.
+    EXPECT_EQ(r[column_index(rc, "cpu_model")], this_host().cpu_model);
+    EXPECT_EQ(r[column_index(rc, "cores")],
+              this_host().cores > 0 ? std::to_string(this_host().cores) : "");
+    EXPECT_GE(std::stod(r[column_index(rc, "load_avg")]), 0.0);
   }
   EXPECT_EQ(links.size(), 1u) << "links depend on the scheduler or thread count";
   EXPECT_EQ(ids.size(), 8u);
-  EXPECT_EQ(data_rows(out.path / "iterations.csv").size(), 16u);
+  const auto iterations = data_rows(out.path / "iterations.csv");
+  EXPECT_EQ(iterations.size(), 16u);
+  const auto& ic = iteration_columns();
+  for (const Row& r : iterations) {
+    ASSERT_EQ(r.size(), ic.size());
+    EXPECT_EQ(r[column_index(ic, "hrad_revision")], "abc");
+    EXPECT_EQ(r[column_index(ic, "host")], this_host().hostname);
+  }
 
   const auto m = nlohmann::json::parse(read_text(out.path / "manifest.json"));
   EXPECT_EQ(m["status"], "complete");

@@ -94,7 +94,7 @@ TEST(ExperimentRows, ColumnsAndValues) {
   RunStats stats = two_iterations();
   stats.warnings = {"iteration 1: refiner 1 ran on a CPU for 40% of the time", "another"};
   const RunRows r = make_run_rows("s", p[3], 1, stats, "2026-01-01T00:00:00+0000", nullptr,
-                                  RunOrigin{"node7", "abc1234"});
+                                  RunOrigin{"node7", "abc1234", "AMD EPYC 9R14", 96, 1.5});
   const auto& rc = run_columns();
   ASSERT_EQ(r.run.size(), rc.size());
   const auto at = [&](const char* c) { return r.run[column_index(rc, c)]; };
@@ -118,6 +118,9 @@ TEST(ExperimentRows, ColumnsAndValues) {
   EXPECT_EQ(at("warnings"), "iteration 1: refiner 1 ran on a CPU for 40% of the time | another");
   EXPECT_EQ(at("host"), "node7");
   EXPECT_EQ(at("hrad_revision"), "abc1234");
+  EXPECT_EQ(at("cpu_model"), "AMD EPYC 9R14");
+  EXPECT_EQ(at("cores"), "96");
+  EXPECT_EQ(at("load_avg"), "1.5");
   ASSERT_EQ(r.iterations.size(), 2u);
   const auto& ic = iteration_columns();
   for (const Row& row : r.iterations) ASSERT_EQ(row.size(), ic.size());
@@ -126,6 +129,16 @@ TEST(ExperimentRows, ColumnsAndValues) {
   EXPECT_EQ(r.iterations[1][column_index(ic, "refine_cpu_s")], "4");
   EXPECT_EQ(r.iterations[0][column_index(ic, "bytes_links")], "3000");
   EXPECT_EQ(r.iterations[0][column_index(ic, "lock_wait_total_s")], "0.875");
+  // Each iteration row says where it ran too.
+  for (const Row& row : r.iterations) {
+    EXPECT_EQ(row[column_index(ic, "host")], "node7");
+    EXPECT_EQ(row[column_index(ic, "hrad_revision")], "abc1234");
+  }
+  // Unknown model, cores and load: empty cells.
+  const RunRows unknown = make_run_rows("s", p[3], 1, stats, "t", nullptr, RunOrigin{"h", "r"});
+  EXPECT_EQ(unknown.run[column_index(rc, "cpu_model")], "");
+  EXPECT_EQ(unknown.run[column_index(rc, "cores")], "");
+  EXPECT_EQ(unknown.run[column_index(rc, "load_avg")], "");
 }
 
 // stats.json and iterations.csv are written from one table (core/output/stat_fields.h):
@@ -179,8 +192,8 @@ TEST(ExperimentRows, EveryIterationScalarOfStatsJsonIsACsvColumn) {
   EXPECT_EQ(row[column_index(ic, "load_s")], "0.0625");
   EXPECT_EQ(row[column_index(ic, "open_rays")], "11");
   EXPECT_EQ(row[column_index(ic, "local_access_ratio")], "");
-  // Identity, options and the table: nothing else in the header.
-  EXPECT_EQ(ic.size(), 5 + option_table().size() + iteration_fields().size());
+  // Identity, options, the table, then the host and the revision: nothing else.
+  EXPECT_EQ(ic.size(), 5 + option_table().size() + iteration_fields().size() + 2);
 }
 
 // The same for a run: stats.json's totals and runs.csv come from run_fields().
@@ -205,8 +218,8 @@ TEST(ExperimentRows, EveryTotalOfStatsJsonIsARunsCsvColumn) {
   EXPECT_EQ(j["iterations_run"], 2);
   EXPECT_EQ(j["task_cpu_ns"], 12.5);
   // Identity, options, the table, then the start time, the four probe columns, the
-  // warnings, the host and the revision.
-  EXPECT_EQ(rc.size(), 5 + option_table().size() + run_fields().size() + 5 + 3);
+  // warnings, the host, the revision, the CPU model, the cores and the load.
+  EXPECT_EQ(rc.size(), 5 + option_table().size() + run_fields().size() + 5 + 6);
 }
 
 TEST(ExperimentRows, HeaderStartsWithIdentityThenOptions) {

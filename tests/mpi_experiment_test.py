@@ -23,9 +23,10 @@ import sys
 import time
 
 SKIP = 77
-# Columns that measure time or the process rather than the solution. scheduler_ops
-# counts take attempts too, which differ between two serial runs of one point.
-VOLATILE = {"started_at", "peak_rss_bytes", "scheduler_ops"}
+# Columns that measure time, the process or the machine's load rather than the
+# solution. scheduler_ops counts take attempts too, which differ between two serial
+# runs of one point.
+VOLATILE = {"started_at", "peak_rss_bytes", "scheduler_ops", "load_avg"}
 
 
 def volatile(column):

@@ -32,6 +32,21 @@ TEST(Topology, ThisMachineIsConsistent) {
   EXPECT_NE(t.description.find("this machine"), std::string::npos) << t.description;
 }
 
+// hwloc passes the CPU model on as the processor reports it, padded with blanks
+// ("Oxide Virtual Turin-like Processor             "); manifests, rows and captions
+// show it tidied.
+TEST(Topology, CpuModelIsTidied) {
+  EXPECT_EQ(tidy_cpu_model("Oxide Virtual Turin-like Processor             "),
+            "Oxide Virtual Turin-like Processor");
+  EXPECT_EQ(tidy_cpu_model("  Intel(R) Xeon(R) CPU           E5-2680 0 @ 2.70GHz\t"),
+            "Intel(R) Xeon(R) CPU E5-2680 0 @ 2.70GHz");
+  EXPECT_EQ(tidy_cpu_model("   "), "");
+  EXPECT_EQ(tidy_cpu_model(""), "");
+  const TopologyInfo t = discover_topology();
+  EXPECT_EQ(t.cpu_model, tidy_cpu_model(t.cpu_model));
+  EXPECT_EQ(t.description, tidy_cpu_model(t.description)) << "'" << t.description << "'";
+}
+
 TEST(Topology, SyntheticTwoNodes) {
   TopologyInfo t;
   {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <hwloc.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -35,16 +36,21 @@ std::string cpu_list(hwloc_const_bitmap_t set) {
   return s;
 }
 
+std::string cpu_model_of(hwloc_topology_t topo) {
+  const char* model = nullptr;
+  if (hwloc_obj_t pkg = hwloc_get_obj_by_type(topo, HWLOC_OBJ_PACKAGE, 0))
+    model = hwloc_obj_get_info_by_name(pkg, "CPUModel");
+  return model ? tidy_cpu_model(model) : std::string();
+}
+
 std::string describe(hwloc_topology_t topo, bool synthetic) {
   if (const char* s = std::getenv("HWLOC_SYNTHETIC"); synthetic && s && *s)
     return fmt::format("synthetic topology (HWLOC_SYNTHETIC=\"{}\")", s);
   if (const char* x = std::getenv("HWLOC_XMLFILE"); synthetic && x && *x)
     return fmt::format("topology read from {} (HWLOC_XMLFILE)", x);
   if (synthetic) return "topology not of this machine";
-  const char* model = nullptr;
-  if (hwloc_obj_t pkg = hwloc_get_obj_by_type(topo, HWLOC_OBJ_PACKAGE, 0))
-    model = hwloc_obj_get_info_by_name(pkg, "CPUModel");
-  return model ? fmt::format("this machine: {}", model) : std::string("this machine");
+  const std::string model = cpu_model_of(topo);
+  return model.empty() ? std::string("this machine") : fmt::format("this machine: {}", model);
 }
 
 std::string bytes_text(std::uint64_t b) {
@@ -110,6 +116,7 @@ TopologyInfo info_of(hwloc_topology_t raw) {
   if (t.cores == 0) t.cores = t.pus;
   t.synthetic = hwloc_topology_is_thissystem(raw) == 0;
   t.description = describe(raw, t.synthetic);
+  if (!t.synthetic) t.cpu_model = cpu_model_of(raw);
 
   for (int i = 0; i < t.numa_nodes; ++i) {
     hwloc_obj_t node = hwloc_get_obj_by_type(raw, HWLOC_OBJ_NUMANODE, static_cast<unsigned>(i));
@@ -129,6 +136,21 @@ TopologyInfo info_of(hwloc_topology_t raw) {
 }
 
 }  // namespace
+
+std::string tidy_cpu_model(std::string_view model) {
+  std::string s;
+  bool blank = false;
+  for (const char c : model) {
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      blank = !s.empty();
+      continue;
+    }
+    if (blank) s += ' ';
+    blank = false;
+    s += c;
+  }
+  return s;
+}
 
 TopologyInfo discover_topology() {
   TopologyPtr topo = load();

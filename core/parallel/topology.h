@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 #include "core/base/enum_names.h"
 
@@ -34,6 +35,7 @@ struct TopologyInfo {
   int cores = 0;                    ///< physical cores (PUs when the topology has no core level)
   int pus = 0;                      ///< hardware threads
   std::string description;          ///< one line: where the topology came from, CPU model
+  std::string cpu_model;            ///< the first package's CPU model, tidied; "" when unknown
   bool synthetic = false;           ///< true when it is not this machine's (HWLOC_SYNTHETIC, XML)
   std::vector<NumaNodeInfo> nodes;  ///< in logical order
 };
@@ -41,6 +43,10 @@ struct TopologyInfo {
 /// Loads the topology (honouring HWLOC_SYNTHETIC / HWLOC_XMLFILE). Throws
 /// std::runtime_error when hwloc fails.
 [[nodiscard]] TopologyInfo discover_topology();
+
+/// A CPU model string as a person reads it: blanks at either end removed and runs of
+/// blanks inside made one ("Processor     " -> "Processor").
+[[nodiscard]] std::string tidy_cpu_model(std::string_view model);
 
 /// A short tree: a summary line, then packages with their NUMA nodes, cores and PUs.
 [[nodiscard]] std::string format_topology(const TopologyInfo& t);

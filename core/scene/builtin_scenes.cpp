@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
@@ -13,6 +15,10 @@ namespace hrad {
 namespace {
 
 constexpr std::string_view kPrefix = "builtin:";
+// builtin:NAME,k=v,k=v (no shell quoting needed) or builtin:NAME?k=v&k=v (the URL-like
+// form, which the shell splits at '&' unless quoted). The two may be mixed.
+constexpr std::string_view kListStart = ",?";
+constexpr std::string_view kListSeparators = ",&";
 
 struct Entry {
   BuiltinInfo (*info)();
@@ -70,6 +76,50 @@ const std::vector<BuiltinInfo>& builtin_scenes() {
 
 bool is_builtin_spec(std::string_view spec) { return spec.starts_with(kPrefix); }
 
+std::string builtin_base(std::string_view spec) {
+  if (!is_builtin_spec(spec)) return std::string(spec);
+  const std::size_t q = spec.find_first_of(kListStart, kPrefix.size());
+  return std::string(spec.substr(0, q));
+}
+
+std::string normal_builtin_spec(std::string_view spec) {
+  std::string s(spec);
+  if (!is_builtin_spec(spec)) return s;
+  for (std::size_t i = kPrefix.size(); i < s.size(); ++i)
+    if (s[i] == '?' || s[i] == '&') s[i] = ',';
+  return s;
+}
+
+std::vector<std::string> split_scene_list(std::string_view list) {
+  // A piece "identifier=..." right after a builtin spec is one of its parameters.
+  auto is_param = [](std::string_view piece) {
+    const std::size_t eq = piece.find('=');
+    if (eq == 0 || eq == std::string_view::npos) return false;
+    for (const char c : piece.substr(0, eq))
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+    return true;
+  };
+  std::vector<std::string> scenes;
+  bool in_builtin = false;
+  std::size_t pos = 0;
+  while (pos <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', pos), list.size());
+    const std::string_view piece = list.substr(pos, comma - pos);
+    pos = comma + 1;
+    if (piece.empty()) {
+      in_builtin = false;
+      continue;
+    }
+    if (in_builtin && is_param(piece)) {
+      (scenes.back() += ',') += piece;
+      continue;
+    }
+    scenes.emplace_back(piece);
+    in_builtin = is_builtin_spec(piece);
+  }
+  return scenes;
+}
+
 namespace {
 
 struct ParsedSpec {
@@ -82,7 +132,7 @@ ParsedSpec parse_spec(const std::string& spec) {
   if (!is_builtin_spec(spec))
     throw fail(fmt::format("not a builtin scene spec (it must start with '{}')", kPrefix));
   const std::string_view rest = std::string_view(spec).substr(kPrefix.size());
-  const std::size_t q = rest.find('?');
+  const std::size_t q = rest.find_first_of(kListStart);
   const std::string name(rest.substr(0, q));
   const std::string_view query = q == std::string_view::npos ? "" : rest.substr(q + 1);
 
@@ -99,11 +149,11 @@ ParsedSpec parse_spec(const std::string& spec) {
   std::map<std::string, bool> given;
   std::size_t pos = 0;
   while (q != std::string_view::npos && pos <= query.size()) {
-    const std::size_t amp = std::min(query.find('&', pos), query.size());
+    const std::size_t amp = std::min(query.find_first_of(kListSeparators, pos), query.size());
     const std::string_view item = query.substr(pos, amp - pos);
     pos = amp + 1;
     const std::size_t eq = item.find('=');
-    if (item.empty()) throw fail("empty parameter (a stray '?' or '&')");
+    if (item.empty()) throw fail("empty parameter (a stray ',', '?' or '&')");
     if (eq == std::string_view::npos || eq == 0)
       throw fail(fmt::format("parameter '{}' is not of the form name=value", item));
     const std::string key(item.substr(0, eq));

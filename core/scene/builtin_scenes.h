@@ -1,7 +1,9 @@
 // Built-in procedural scenes, named by a spec string:
 //
 //   builtin:NAME                 e.g. builtin:cornell
-//   builtin:NAME?k=v&k=v         e.g. builtin:office?desks=40&lights=6
+//   builtin:NAME,k=v,k=v         e.g. builtin:office,desks=40,lights=6
+//   builtin:NAME?k=v&k=v         e.g. 'builtin:office?desks=40&lights=6' (quoted: the
+//                                shell would end the command at '&')
 //
 // Every scene is a pure function of its spec (no global random state): the same spec
 // gives a bit-identical Scene. Units are metres, y is up; Material::emission is
@@ -44,6 +46,20 @@ const std::vector<BuiltinInfo>& builtin_scenes();
 
 /// True when `spec` names a built-in scene ("builtin:..."), valid or not.
 bool is_builtin_spec(std::string_view spec);
+
+/// "builtin:NAME" for a builtin spec with or without parameters; any other spec as it is.
+std::string builtin_base(std::string_view spec);
+
+/// A builtin spec in the comma form (builtin:office?desks=4&lights=2 ->
+/// builtin:office,desks=4,lights=2), for telling whether two specs name the same scene;
+/// any other spec as it is.
+std::string normal_builtin_spec(std::string_view spec);
+
+/// A comma-separated list of scene specs, where the comma-form parameters stay with
+/// their builtin scene: "builtin:cornell,blocks=0,room.obj,builtin:office" ->
+/// {"builtin:cornell,blocks=0", "room.obj", "builtin:office"}. A piece "name=value"
+/// after a builtin spec is one of its parameters; empty pieces are dropped.
+std::vector<std::string> split_scene_list(std::string_view list);
 
 /// Builds the scene named by `spec`. Throws InputError (file = spec, line 0) for an
 /// unknown scene or parameter, a value that is not a number, not an integer where one

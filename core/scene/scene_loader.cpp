@@ -18,8 +18,9 @@ namespace {
 /// " (did you mean builtin:NAME?)" when the spec, without its folder, extension and
 /// parameters, is the name of a built-in scene ("cornell", "office.obj"), else "".
 std::string builtin_hint(const std::string& spec) {
-  const std::string name = std::filesystem::path(spec.substr(0, spec.find('?'))).stem().string();
-  const std::string params = spec.find('?') == std::string::npos ? "" : spec.substr(spec.find('?'));
+  const std::size_t q = spec.find_first_of(",?");
+  const std::string name = std::filesystem::path(spec.substr(0, q)).stem().string();
+  const std::string params = q == std::string::npos ? "" : spec.substr(q);
   for (const BuiltinInfo& b : builtin_scenes())
     if (b.name == name) return fmt::format(" (did you mean builtin:{}{}?)", name, params);
   return "";

@@ -12,7 +12,7 @@
 //              the transport, and both bias the answer);
 //   clamp      scale a leaf's gathered irradiance by 1 / S when its row sum S
 //              exceeds 1 (no rays; never adds energy, so it is biased low by
-//              construction: 17 % low in builtin:furnace?rho=0.9, where keep is
+//              construction: 17 % low in builtin:furnace,rho=0.9, where keep is
 //              within 2 %);
 //   normalize  scale it by (1 - uncovered) / S, at most kNormalizeGainCap (2) times,
 //              where `uncovered` is the share of cosine-distributed rays from the

@@ -2,6 +2,7 @@
 
 #include "core/base/atomic_file.h"
 #include "core/base/clock.h"
+#include "core/base/percent.h"
 #include "core/reference/path_tracer.h"
 #include "core/solver/solver.h"
 
@@ -73,7 +74,7 @@ SceneReference scene_reference(const fs::path& dir, const std::string& scene_spe
     fmt::print(log,
                "hrad experiment: path-traced reference for {} ({} probes, {} relative "
                "error)...\n",
-               scene_spec, ref.probes.size(), a.reference_rel_error);
+               scene_spec, ref.probes.size(), percent_text(a.reference_rel_error));
   std::fflush(log);
   const PathTracer tracer(scene);
   const ReferenceResult r = tracer.estimate(ref.probes, o);
@@ -84,8 +85,11 @@ SceneReference scene_reference(const fs::path& dir, const std::string& scene_spe
     if (!r.probes[i].converged) unconverged.push_back(i);
   }
   if (!unconverged.empty())
-    fmt::print(log, "hrad: warning: {}: {} of {} reference probes missed the {} target\n",
-               scene_spec, unconverged.size(), r.probes.size(), a.reference_rel_error);
+    fmt::print(log,
+               "hrad: warning: {}: {} of {} reference probes missed the {} relative error "
+               "target\n",
+               scene_spec, unconverged.size(), r.probes.size(),
+               percent_text(a.reference_rel_error));
   write_file_atomically(csv, reference_csv(ref.probes, r));
   nlohmann::ordered_json j;
   j["scene"] = scene_spec;

@@ -26,7 +26,8 @@ class Solver;
 namespace hrad::experiment {
 
 /// "reference-<scene>.csv" with every character of the spec outside [A-Za-z0-9_.-]
-/// replaced by '_' (builtin:office?desks=4 -> reference-builtin_office_desks_4.csv).
+/// replaced by '_' (builtin:office,desks=4 -> reference-builtin_office_desks_4.csv; the
+/// '?' form of the same spec gives the same name).
 [[nodiscard]] std::string reference_file_name(const std::string& scene);
 
 struct SceneReference {

@@ -3,6 +3,7 @@
 #include "core/base/input_file.h"
 #include "core/base/json_input.h"
 #include "core/config/options_io.h"
+#include "core/scene/builtin_scenes.h"
 #include "oracles/oracle.h"
 #include "schedulers/scheduler.h"
 
@@ -248,9 +249,10 @@ void check_accuracy_scenes(const AccuracySpec& a, const std::vector<std::string>
 std::filesystem::path accuracy_probe_file(const AccuracySpec& a, const std::string& scene) {
   std::string file = a.probes_all;
   if (file.empty()) {
-    const std::string base = scene.substr(0, scene.find('?'));
+    // A builtin scene's parameters may be written either way (',' or '?' and '&').
+    const std::string spec = normal_builtin_spec(scene), base = builtin_base(scene);
     for (const auto& [key, f] : a.probes_by_scene)
-      if (key == scene) file = f;
+      if (normal_builtin_spec(key) == spec) file = f;
     if (file.empty())
       for (const auto& [key, f] : a.probes_by_scene)
         if (key == base) file = f;
@@ -375,10 +377,7 @@ void apply_experiment_set(ExperimentConfig& config, const std::string& key_eq_va
     return;
   }
   if (key == "scenes") {
-    std::vector<std::string> scenes;
-    std::stringstream ss(value);
-    for (std::string s; std::getline(ss, s, ',');)
-      if (!s.empty()) scenes.push_back(s);
+    const std::vector<std::string> scenes = split_scene_list(value);
     if (scenes.empty()) throw std::invalid_argument(source + ": name at least one scene");
     config.scenes = scenes;
     return;

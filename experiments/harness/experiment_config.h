@@ -52,8 +52,10 @@ struct QuickOverrides {
 /// computed once per scene and cached in the result folder as reference-<scene>.csv),
 /// by the probe metric of core/reference/error_metrics.h. Keys:
 ///   probes               string (one file for every scene) or object: scene -> file.
-///                        An object key matches a scene spec exactly, or its part
-///                        before '?' (so "builtin:office" covers "builtin:office?desks=4").
+///                        An object key matches a scene spec exactly (a builtin
+///                        scene's parameters written with ',' or with '?' and '&'
+///                        alike), or the scene's builtin:NAME (so "builtin:office"
+///                        covers "builtin:office,desks=4").
 ///                        Relative paths are relative to the configuration file's folder.
 ///   reference_rel_error  number > 0 (default 0.005): the reference's target relative
 ///                        standard error per probe

@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -54,10 +55,14 @@ ojson topology_json(std::string& cpu) {
   }
 }
 
+std::string host_name() {
+  char host[256] = {};
+  return ::gethostname(host, sizeof host - 1) == 0 ? host : "unknown";
+}
+
 ojson machine_json(const std::string& cpu) {
   ojson m = ojson::object();
-  char host[256] = {};
-  m["hostname"] = ::gethostname(host, sizeof host - 1) == 0 ? host : "unknown";
+  m["hostname"] = host_name();
   struct utsname u {};
   m["os"] = ::uname(&u) == 0 ? fmt::format("{} {} {}", u.sysname, u.release, u.machine)
                              : std::string("unknown");
@@ -73,6 +78,26 @@ ojson machine_json(const std::string& cpu) {
 }
 
 }  // namespace
+
+HostInfo this_host() {
+  HostInfo h;
+  h.hostname = host_name();
+  try {
+    const TopologyInfo t = discover_topology();
+    if (!t.synthetic) {  // a synthetic topology is not this host's
+      h.cpu_model = t.cpu_model;
+      h.cores = t.cores;
+    }
+  } catch (const std::exception&) {
+    // hwloc failed: model and cores unknown
+  }
+  return h;
+}
+
+double load_average_1min() {
+  double load[1] = {0};
+  return ::getloadavg(load, 1) == 1 ? load[0] : std::numeric_limits<double>::quiet_NaN();
+}
 
 std::string now_iso8601() { return local_time("%Y-%m-%dT%H:%M:%S%z"); }
 std::string now_stamp() { return local_time("%Y%m%d-%H%M%S"); }

@@ -7,7 +7,8 @@
 //                requires it unchanged), points, repetitions, runs
 //   hrad         version, git_revision, compiler, build_type, cxx_flags
 //   command_line the arguments
-//   machine      hostname, os (uname), cpu (hwloc's description), pus, memory_bytes
+//   machine      hostname, os (uname), cpu (hwloc's description, CPU model tidied),
+//                pus, memory_bytes
 //   topology     as `hrad topology`: packages, numa_nodes, cores, pus, description,
 //                synthetic, nodes [{os_index, package, cores, pus, cpus, memory_bytes}]
 //   environment  every OMP_*, GOMP_*, KMP_*, HRAD_* and HWLOC_* variable that is set
@@ -34,6 +35,19 @@ struct ManifestInputs {
   std::string version, git_revision;
   int points = 0;
 };
+
+/// This host as the result rows describe it: its name, CPU model (tidied; "" when
+/// unknown) and physical cores (0 when unknown), from the same sources as the
+/// manifest's `machine` and `topology`. Under a synthetic topology (HWLOC_SYNTHETIC,
+/// HWLOC_XMLFILE) model and cores are unknown: that topology is not this host's.
+struct HostInfo {
+  std::string hostname, cpu_model;
+  int cores = 0;
+};
+[[nodiscard]] HostInfo this_host();
+
+/// The 1-minute load average now; NaN when the system does not tell.
+[[nodiscard]] double load_average_1min();
 
 /// A new manifest (status "running", started now).
 [[nodiscard]] nlohmann::ordered_json make_manifest(const ManifestInputs& in);

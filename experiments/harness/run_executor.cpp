@@ -25,8 +25,10 @@ RunExecutor::RunExecutor(const ExperimentConfig& config, fs::path dir, std::FILE
       log_(log),
       quiet_(quiet),
       cached_only_(cached_references_only) {
-  char host[256] = {};
-  origin_.host = ::gethostname(host, sizeof host - 1) == 0 ? host : "unknown";
+  const HostInfo host = this_host();
+  origin_.host = host.hostname;
+  origin_.cpu_model = host.cpu_model;
+  origin_.cores = host.cores;
   origin_.revision = std::move(revision);
 }
 
@@ -59,6 +61,8 @@ RunOutcome RunExecutor::run(const SweepPoint& p, int repetition, const std::stri
   ProgressReporter progress(log_, draw, [] { return Clock::now(); });
   const auto start = Clock::now();
   const std::string started = now_iso8601();
+  RunOrigin origin = origin_;
+  origin.load_avg = load_average_1min();
   RunStats stats;
   RunOutcome out;
   {
@@ -73,7 +77,7 @@ RunOutcome RunExecutor::run(const SweepPoint& p, int repetition, const std::stri
     for (const std::string& w : stats.warnings)
       fmt::print(log_, "hrad: warning: {}: {}\n", label, w);
   out.rows = make_run_rows(config_.name, p, repetition, stats, started,
-                           out.accuracy ? &*out.accuracy : nullptr, origin_);
+                           out.accuracy ? &*out.accuracy : nullptr, origin);
   out.task_cpu_ns = stats.totals.task_cpu_ns;
   out.seconds = seconds_since(start);
   return out;

@@ -31,7 +31,8 @@ class RunExecutor {
   /// `cached_references_only`, a reference missing from `dir` is an error instead of
   /// being traced here (MPI workers: rank 0 traces them first, so that every rank
   /// compares against the same reference).
-  /// `revision`: hrad's git revision, for the rows (RunOrigin; the host is this one's).
+  /// `revision`: hrad's git revision, for the rows (RunOrigin; the host, its CPU and
+  /// the load at each run's start are this one's).
   RunExecutor(const ExperimentConfig& config, std::filesystem::path dir, std::FILE* log, bool quiet,
               std::string revision, bool cached_references_only = false);
 

@@ -51,8 +51,10 @@ class Cells {
 
 std::string num(const FieldValue& v) { return v.integer ? num(v.count) : num(v.real); }
 
-void iteration_figures(Cells& c, const IterationStats& it) {
+void iteration_figures(Cells& c, const IterationStats& it, const RunOrigin& origin) {
   for (const IterationField& f : iteration_fields()) c.add(f.column, num(f.get(it)));
+  c.add("host", origin.host);
+  c.add("hrad_revision", origin.revision);
 }
 
 void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
@@ -70,6 +72,9 @@ void run_figures(Cells& c, const RunStats& stats, const std::string& started_at,
   c.add("warnings", fmt::format("{}", fmt::join(stats.warnings, " | ")));
   c.add("host", origin.host);
   c.add("hrad_revision", origin.revision);
+  c.add("cpu_model", origin.cpu_model);
+  c.add("cores", origin.cores > 0 ? num(origin.cores) : std::string());
+  c.add("load_avg", num(origin.load_avg));
 }
 
 }  // namespace
@@ -88,7 +93,7 @@ const std::vector<std::string>& iteration_columns() {
   static const std::vector<std::string> columns = [] {
     std::vector<std::string> c = with_identity_and_options();
     Cells cells(&c);
-    iteration_figures(cells, IterationStats{});
+    iteration_figures(cells, IterationStats{}, RunOrigin{});
     return c;
   }();
   return columns;
@@ -107,7 +112,7 @@ RunRows make_run_rows(const std::string& config_name, const SweepPoint& point, i
   const Row prefix = identity_and_options(config_name, point, repetition);
   for (const IterationStats& it : stats.iterations) {
     Cells c;
-    iteration_figures(c, it);
+    iteration_figures(c, it, origin);
     Row r = prefix;
     const Row figures = c.take();
     r.insert(r.end(), figures.begin(), figures.end());

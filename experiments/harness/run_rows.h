@@ -11,8 +11,9 @@
 //              lock_wait_scheduler_s lock_wait_element_s lock_wait_link_s
 //              lock_wait_total_s peak_parallelism local_access_ratio gather_sweeps
 //              iterations_run started_at probe_err_mean probe_err_max probe_err_rms
-//              probe_s warnings host hrad_revision
-//   iterations.csv  iteration, then the same per-iteration figures (max_change too)
+//              probe_s warnings host hrad_revision cpu_model cores load_avg
+//   iterations.csv  iteration, then the same per-iteration figures (max_change too),
+//              host hrad_revision
 //
 // Sums over iterations: times, links_created, rays, tasks, scheduler_ops, steals, idle,
 // lock waits, gather_sweeps; local_access_ratio is tasks whose receiver lives on the
@@ -24,6 +25,7 @@
 #include "core/output/run_stats.h"
 #include "experiments/harness/sweep.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -44,10 +46,14 @@ struct AccuracyFigures {
   double probe_s = 0;
 };
 
-/// Where a run ran: its host and hrad's git revision (the manifest gives the
+/// Where a run ran: its host, hrad's git revision, the host's CPU model and core count,
+/// and the 1-minute load average when the run started (the manifest gives the
 /// experiment's, but a resumed folder or an MPI sweep's ranks may mix them).
 struct RunOrigin {
   std::string host, revision;
+  std::string cpu_model;  ///< tidied (core/parallel/topology.h); "" when unknown
+  int cores = 0;          ///< physical cores; 0 when unknown
+  double load_avg = std::numeric_limits<double>::quiet_NaN();  ///< NaN: unknown (empty cell)
 };
 
 struct RunRows {
