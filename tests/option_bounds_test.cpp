@@ -67,4 +67,45 @@ TEST_F(OptionBounds, ExperimentAndSimulateNumbersAreFinite) {
   refused("simulate run/t.trace --costs costs.json --procs 2", "costs.json: not valid JSON");
 }
 
+// Seeds are never negative: reference --seed -1 wrapped to 2^64 - 1 (and ran), while
+// solve refused it as "not an unsigned integer"; now every place a seed is read says
+// it is out of range.
+TEST_F(OptionBounds, NegativeSeedsAreRefusedEverywhere) {
+  refused("reference builtin:cornell --random-probes 4 --seed -1 --out ref",
+          "--seed: must be between 0 and 18446744073709551615, not -1");
+  refused("compare a b --seed -1", "--seed: must be between 0 and");
+  refused("solve builtin:cornell --set seed=-1 --out run", "option seed = -1 is out of range");
+  write("s.json", R"({"seed": -1})");
+  refused("solve builtin:cornell --config s.json --out run",
+          "s.json: option seed = -1 is out of range");
+  write("exp.json", R"({"name": "x", "scenes": ["builtin:cornell"], "sweep": {"seed": [1, -1]}})");
+  refused("experiment exp.json --out x", "option seed = -1 is out of range");
+}
+
+// A whole number in exponent form is that integer, range-checked like any other:
+// threads = 1e9 said "expects an integer, got '1e9'", and 100000000000 (beyond an int)
+// the same.
+TEST_F(OptionBounds, IntegersInExponentFormAreRangeChecked) {
+  refused("solve builtin:cornell --set threads=1e9 --out run",
+          "option threads = 1000000000 is out of range: it must be between 1 and 1024");
+  refused("solve builtin:cornell --set iterations=100000000000 --out run",
+          "option iterations = 100000000000 is out of range: it must be between 1 and 10000");
+  refused("solve builtin:cornell --set threads=-1e12 --out run",
+          "option threads = -1e12 is out of range: it must be between 1 and 1024");
+  refused("solve builtin:cornell --set seed=1e30 --out run", "option seed = 1e30 is out of range");
+  refused("solve builtin:cornell --set threads=2.5 --out run", "expects an integer, got '2.5'");
+  write("t.json", R"({"threads": 1e10})");
+  refused("solve builtin:cornell --config t.json --out run", "t.json: option threads = ");
+  refused("solve builtin:cornell --config t.json --out run",
+          "is out of range: it must be between 1 and 1024");
+  refused("reference builtin:cornell --random-probes 1e9 --out ref",
+          "--random-probes: must be between 1 and 1048576, not 1e9");
+  refused("topology --threads 1e5", "--threads: must be between 1 and 1024, not 1e5");
+  refused("reference builtin:cornell --random-probes 2.5 --out ref", "'2.5' is not an integer");
+  // Within range, the exponent form is accepted.
+  const Result r =
+      hrad("reference builtin:cornell --random-probes 4e0 --max-samples 2e3 --out ref");
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
 }  // namespace
