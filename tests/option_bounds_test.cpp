@@ -108,4 +108,20 @@ TEST_F(OptionBounds, IntegersInExponentFormAreRangeChecked) {
   EXPECT_EQ(r.status, 0) << r.err;
 }
 
+// A cost file is bounded like the flags: {"take_op_ns": 1e308} was taken, and the CSV
+// held inf and -nan.
+TEST_F(OptionBounds, ACostFilesValuesAreBounded) {
+  ASSERT_EQ(
+      hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status, 0);
+  for (const char* cost : {R"("take_op_ns": 1e308)", R"("block_ns": 1e300)", R"("slowdown": 1e308)",
+                           R"("slowdown_per_proc": 1e308)"}) {
+    write("costs.json", std::string("{") + cost + "}");
+    const std::string key = std::string(cost).substr(1, std::string(cost).find('"', 1) - 1);
+    refused("simulate run/t.trace --costs costs.json --procs 2",
+            "costs.json: '" + key + "' must be between");
+  }
+  write("costs.json", R"({"take_op_ns": 1e12, "slowdown": 2})");
+  EXPECT_EQ(hrad("simulate run/t.trace --costs costs.json --procs 2 --quiet").status, 0);
+}
+
 }  // namespace
