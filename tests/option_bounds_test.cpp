@@ -124,4 +124,21 @@ TEST_F(OptionBounds, ACostFilesValuesAreBounded) {
   EXPECT_EQ(hrad("simulate run/t.trace --costs costs.json --procs 2 --quiet").status, 0);
 }
 
+// hrad render checks its image's memory before it reads the mesh, as solve checks
+// image_width: --width 16384 went past 5.5 GB with no check under the default limit.
+TEST_F(OptionBounds, RenderRefusesAnImageAboveTheMemoryLimit) {
+  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --set image_width=64 --set max_memory_gb=1 "
+                 "--out run --quiet")
+                .status,
+            0);
+  refused("render run --width 16384 --max-memory-gb 2",
+          "--width 16384: rendering 16384 x 12288 pixels needs about 12.1 GB, above the limit of "
+          "2 GB");
+  refused("render run --width 16384", "above the limit of 1 GB");  // the solve's limit
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "run" / "rerender.png"));
+  const Result r = hrad("render run --width 1.6e2 --max-memory-gb 1");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "160 x 120 pixels")) << r.out;
+}
+
 }  // namespace
