@@ -294,11 +294,14 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     progress->update("loading " + fs::path(a.scene).filename().string(), 0);
     const auto load_start = Clock::now();
     const MemoryGrowth load_memory;
-    scene = load_scene(a.scene, scene_load_options(options));
-    scene_load_s = seconds_since(load_start);
-    // max_memory_gb covers the load too (the Solver checks its preparation, the
-    // refinement its elements and links, the render its image).
+    // max_memory_gb covers the load too, while it runs and at its end (the Solver checks
+    // its preparation, the refinement its elements and links, the render its image).
     const std::uint64_t limit = memory_limit_bytes(options.max_memory_gb);
+    {
+      const MemoryBudget budget(limit, fmt::format("{}: loading the scene", a.scene));
+      scene = load_scene(a.scene, scene_load_options(options));
+    }
+    scene_load_s = seconds_since(load_start);
     if (const std::uint64_t took = load_memory.grown(); limit > 0 && took > limit)
       throw std::invalid_argument(fmt::format(
           "{}: loading the scene ({} polygons) took {:.3g} GB of memory, above {}", a.scene,

@@ -110,6 +110,29 @@ TEST(Interrupt, PreparingAScenesStructuresStops) {
   EXPECT_NO_THROW((void)Hierarchy(scene, 1));  // nothing left behind by the stopped build
 }
 
+// A phase's memory was checked only at its end: a cabin of four million polygons took
+// 2.5 GB while loading under a limit of 0.3 GB. While a MemoryBudget lives, the
+// interrupt polls compare the process's growth with it.
+TEST(Interrupt, AMemoryBudgetStopsAPhaseThatGrowsPastIt) {
+  std::vector<char> held;
+  {
+    const MemoryBudget budget(8'000'000, "the test's phase");
+    EXPECT_NO_THROW(throw_if_interrupted());
+    held.assign(64'000'000, 1);  // touched: resident
+    try {
+      throw_if_interrupted();
+      FAIL() << "not stopped";
+    } catch (const MemoryExceeded& e) {
+      EXPECT_NE(std::string(e.what()).find("the test's phase took more than the limit of 0.008 GB"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_NO_THROW(throw_if_interrupted());  // no budget: no check
+  const MemoryBudget none(0, "unbounded");
+  EXPECT_NO_THROW(throw_if_interrupted());
+}
+
 // The solve, stopped in each phase of its iteration as the progress line names it:
 // the flag is raised when the phase starts, and the run must not finish.
 TEST(Interrupt, EveryPhaseOfASolveStops) {

@@ -141,4 +141,18 @@ TEST_F(OptionBounds, RenderRefusesAnImageAboveTheMemoryLimit) {
   EXPECT_TRUE(contains(r.out, "160 x 120 pixels")) << r.out;
 }
 
+// Loading and preparing were checked against max_memory_gb only at their ends (a cabin
+// of four million polygons took 2.5 GB loading under 0.3 GB): the load stops as it
+// passes the limit, and preparing is refused before it starts when the polygons alone
+// need more.
+TEST_F(OptionBounds, LoadingAndPreparingStopAtTheMemoryLimit) {
+  const std::string cabin = "solve 'builtin:cabin?rows=30' --set image_width=64 --out run ";
+  refused(cabin + "--set max_memory_gb=0.01",
+          "builtin:cabin?rows=30: loading the scene took more than the limit of 0.01 GB");
+  // 165,128 polygons: about 40 MB loaded, then about 0.1 GB to prepare.
+  refused(cabin + "--set max_memory_gb=0.06",
+          "preparing the scene (165128 polygons: ray scene, hierarchy, contacts) needs about "
+          "0.0991 GB of memory, above the limit of 0.06 GB");
+}
+
 }  // namespace
