@@ -29,6 +29,7 @@
 #include "core/parallel/topology.h"
 #include "core/scene/camera_spec.h"
 #include "core/scene/probes.h"
+#include "core/scene/scene_builder.h"
 #include "core/scene/scene_loader.h"
 #include "core/solver/solver.h"
 #include "experiments/commands.h"
@@ -315,7 +316,9 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     camera = choose_camera(a, options, camera_from, scene);
     if (camera.up_axis >= 0) scene.declared_up = camera.up_axis;
     if (!scene.warnings.empty()) progress->finish();  // warnings start on a clean line
-    for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
+    for (const std::string& w : scene.warnings)
+      if (w != kNoEmitterWarning)  // the solver says it, with what it skipped
+        fmt::print(stderr, "hrad: warning: {}\n", w);
     progress->update("preparing (hierarchy, rays, effects)", 0);
     out = a.out.empty() ? default_out_dir(scene) : fs::path(a.out);
     // A task trace goes with the run's other results: a relative path is inside the
