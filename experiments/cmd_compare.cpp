@@ -19,6 +19,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <utility>
@@ -220,9 +221,10 @@ void register_compare(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--samples", args->samples,
                   "Surface metric: points drawn over the reference mesh [default: 200000]")
       ->type_name("N")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32));
+      ->transform(integer_in(1, std::uint64_t{1} << 32));
   sub->add_option("--seed", args->seed, "Surface metric: seed of the sample points [default: 1]")
-      ->type_name("N");
+      ->type_name("N")
+      ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()));
   sub->add_flag("--per-probe", args->per_probe, "Print one row per probe");
   sub->add_option("--json", args->json, "Also write the numbers to FILE (JSON)")->type_name("FILE");
   sub->callback([args, &ctx] { ctx.status = run_compare(*args); });

@@ -17,6 +17,7 @@
 // the ranks. Every rank leaves through mpi::end once MPI has started.
 #include "core/base/input_file.h"
 #include "core/base/interrupt.h"
+#include "core/config/options_io.h"
 #include "core/scene/scene_loader.h"
 #include "experiments/commands.h"
 #include "experiments/harness/core_share.h"
@@ -31,6 +32,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -99,6 +101,22 @@ std::string oversubscription_warning(const std::vector<SweepPoint>& points) {
       over, points.size(), cpus, most, most);
 }
 
+// Reads every scene file of the sweep once for each way its points load it (sides,
+// segments), before the result folder is made: a scene that does not parse (an OBJ
+// with a bad vertex index) made a folder whose manifest said "failed", and --resume
+// failed again the same way. A builtin scene's spec was checked already; it cannot
+// fail to build.
+void check_scene_files(const std::vector<SweepPoint>& points) {
+  std::vector<std::pair<std::string, SceneLoadOptions>> read;
+  for (const SweepPoint& p : points) {
+    if (p.scene.starts_with("builtin:")) continue;
+    std::pair<std::string, SceneLoadOptions> key{p.scene, scene_load_options(p.options)};
+    if (std::ranges::find(read, key) != read.end()) continue;
+    (void)load_scene(key.first, key.second);
+    read.push_back(std::move(key));
+  }
+}
+
 int run_command(ExperimentArgs a, const CommandContext& ctx) {
   // Started by an MPI launcher with several ranks: rank 0 speaks for all of them.
   const mpi::LaunchInfo launch = mpi::launch_info();
@@ -123,6 +141,7 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     // Before any folder is made: every scene must be one hrad can load, and every plot
     // one there is a script for.
     for (const std::string& s : config.scenes) check_scene_spec(s);
+    check_scene_files(points);
     // The simulated curve is read after every run, by the plots: a wrong name would be
     // found only then.
     if (!a.simulated.empty()) check_input_file(a.simulated, "the --simulated file");

@@ -23,6 +23,7 @@
 
 #include <cctype>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 namespace hrad::cli {
@@ -220,7 +221,7 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
                       "faces (from --seed), on their front sides; written to DIR/probes.txt for "
                       "'hrad solve --probes'")
           ->type_name("N")
-          ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+          ->transform(integer_in(1, std::uint64_t{1} << 20));
   probes->excludes(random);
   sub->add_option("-o,--out", args->out, "Output folder, created if missing, files in it replaced")
       ->type_name("DIR")
@@ -238,17 +239,18 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--max-samples", args->options.max_samples,
                   fmt::format("Paths per probe at most [default: {}]", args->options.max_samples))
       ->type_name("N")
-      ->check(number_in(1, 1e15));
+      ->transform(integer_in(1, 1'000'000'000'000'000));
   sub->add_option("--batch-size", args->options.batch_size,
                   "Paths per batch (the standard error comes from batch means) [default: 64]")
       ->type_name("N")
-      ->check(CLI::Range(1, 1 << 20));
+      ->transform(integer_in(1, std::uint64_t{1} << 20));
   sub->add_option("--seed", args->options.seed, "Mixed into every random number [default: 1]")
-      ->type_name("N");
+      ->type_name("N")
+      ->transform(integer_in(0, std::numeric_limits<std::uint64_t>::max()));
   sub->add_option("-t,--threads", args->options.threads,
                   "OpenMP threads; results do not depend on it [default: 1]")
       ->type_name("N")
-      ->check(CLI::Range(1, kMaxThreads));
+      ->transform(integer_in(1, kMaxThreads));
   // The scene's own keys, with the help text of `hrad solve`'s flags.
   const SolverOptions defaults;
   auto scene_key_help = [&](const char* key) {
@@ -261,7 +263,8 @@ void register_reference(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--emitter-sides", args->emitter_sides, scene_key_help("emitter_sides"))
       ->type_name("MODE");
   sub->add_option("--segments", args->scene_keys.segments, scene_key_help("segments"))
-      ->type_name("N");
+      ->type_name("N")
+      ->transform(integer_in(0, 4096));
   sub->add_flag("--quiet", args->quiet, "No progress line and no summary");
   sub->callback([args, &ctx] {
     install_interrupt_handlers();  // stops at a safe point (core/base/interrupt.h)

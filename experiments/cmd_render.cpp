@@ -34,6 +34,7 @@ struct RenderArgs {
   std::string result, camera, view, image, hdr;
   int width = 0, samples = 0;
   std::optional<double> exposure;
+  std::optional<double> max_memory_gb;  ///< none: the solve's (config.max_memory_gb)
 };
 
 // What a solve's stats.json says about its picture; empty when RESULT has none.
@@ -129,12 +130,14 @@ int run_render(const RenderArgs& a) {
     const int width = a.width > 0 ? a.width : p.width;
     const int height = std::max(1, width * 3 / 4);
     const int samples = a.samples > 0 ? a.samples : p.samples;
-    const std::uint64_t limit = memory_limit_bytes(p.max_memory_gb);
+    // Checked before the mesh is read, as `hrad solve` checks image_width.
+    const std::uint64_t limit = memory_limit_bytes(a.max_memory_gb.value_or(p.max_memory_gb));
     const double need = kRenderBytesPerPixel * width * height;
     if (limit > 0 && need > static_cast<double>(limit))
       throw std::invalid_argument(
-          fmt::format("--width {}: rendering {} x {} pixels needs about {:.3g} GB, above {}", width,
-                      width, height, need / 1e9, memory_limit_text(limit)));
+          fmt::format("--width {}: rendering {} x {} pixels needs about {:.3g} GB, above {}: "
+                      "lower --width or raise --max-memory-gb",
+                      width, width, height, need / 1e9, memory_limit_text(limit)));
     const fs::path image = a.image.empty() ? p.dir / "rerender.png" : fs::path(a.image);
     if (fs::exists(image) && fs::equivalent(image, p.mesh))
       throw std::invalid_argument(fmt::format("--image {} is the mesh itself", image.string()));
@@ -183,15 +186,21 @@ void register_render(CLI::App& app, CommandContext& ctx) {
                   "image width in pixels, 8-16384; the height is 3/4 of it (default: the "
                   "solve's)")
       ->type_name("N")
-      ->check(number_in(8, 16384));
+      ->transform(integer_in(8, 16384));
   sub->add_option("--samples", args->samples,
                   "N x N stratified rays per pixel, 1-16 (default: the solve's)")
       ->type_name("N")
-      ->check(number_in(1, 16));
+      ->transform(integer_in(1, 16));
   sub->add_option("--exposure", args->exposure,
                   "stops over the automatic exposure, +1 twice as bright (default: the solve's)")
       ->type_name("STOPS")
       ->check(number_in(-64, 64));
+  sub->add_option("--max-memory-gb", args->max_memory_gb,
+                  "refuse, before rendering, an image that needs more memory than this many GB "
+                  "(about 60 bytes a pixel; 0: 3/4 of the machine's physical memory; default: "
+                  "the solve's max_memory_gb)")
+      ->type_name("GB")
+      ->check(number_in(0, 1e9));
   sub->add_option("--image", args->image,
                   "where to write the PNG (default: RESULT/rerender.png; the solve's "
                   "render.png is left alone unless named here)")

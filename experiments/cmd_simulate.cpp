@@ -452,7 +452,8 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                               "modelled: {}) (default: the trace's)",
                               fmt::join(policy_names(), ", "), not_modelled));
   sub->add_option("--block-size", args->block_size,
-                  "tasks per take, 0: guided (default: the trace's)");
+                  "tasks per take, 0: guided (default: the trace's)")
+      ->transform(integer_in(0, kMaxBlockSize));
   sub->add_option("--scale", args->scale,
                   "every time in the trace x this (task durations of another machine: its "
                   "1-thread refinement time / this one's)")
@@ -484,7 +485,7 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
   sub->add_option("--max-task-ns", args->max_task_ns,
                   "cut task durations above this (ns) to it: removes preemptions recorded inside "
                   "tasks on a loaded machine")
-      ->check(CLI::Range(1u, TraceRecord::kBlockStart - 1));
+      ->transform(integer_in(1, TraceRecord::kBlockStart - 1));
   sub->add_option("--stage-stats", args->stage_stats,
                   "stats.json of the traced 1-thread run: adds each iteration's time outside the "
                   "task loop (reload and load, link compaction, stage start and end), Amdahl over "
@@ -499,7 +500,7 @@ void register_simulate(CLI::App& app, CommandContext& ctx) {
                               fmt::join(calibration_lock_names(), ", ")));
   sub->add_option("--lock-threads", args->lock_threads,
                   "--calibrate-locks: most threads (default: the hardware's)")
-      ->check(CLI::Range(2, kMaxThreads));
+      ->transform(integer_in(2, kMaxThreads));
   sub->add_option("--lock-work-ns", args->lock_work_ns,
                   "--calibrate-locks: private work between two acquisitions, ns")
       ->capture_default_str()

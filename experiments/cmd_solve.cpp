@@ -29,6 +29,7 @@
 #include "core/parallel/topology.h"
 #include "core/scene/camera_spec.h"
 #include "core/scene/probes.h"
+#include "core/scene/scene_builder.h"
 #include "core/scene/scene_loader.h"
 #include "core/solver/solver.h"
 #include "experiments/commands.h"
@@ -294,11 +295,14 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     progress->update("loading " + fs::path(a.scene).filename().string(), 0);
     const auto load_start = Clock::now();
     const MemoryGrowth load_memory;
-    scene = load_scene(a.scene, scene_load_options(options));
-    scene_load_s = seconds_since(load_start);
-    // max_memory_gb covers the load too (the Solver checks its preparation, the
-    // refinement its elements and links, the render its image).
+    // max_memory_gb covers the load too, while it runs and at its end (the Solver checks
+    // its preparation, the refinement its elements and links, the render its image).
     const std::uint64_t limit = memory_limit_bytes(options.max_memory_gb);
+    {
+      const MemoryBudget budget(limit, fmt::format("{}: loading the scene", a.scene));
+      scene = load_scene(a.scene, scene_load_options(options));
+    }
+    scene_load_s = seconds_since(load_start);
     if (const std::uint64_t took = load_memory.grown(); limit > 0 && took > limit)
       throw std::invalid_argument(fmt::format(
           "{}: loading the scene ({} polygons) took {:.3g} GB of memory, above {}", a.scene,
@@ -312,7 +316,9 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     camera = choose_camera(a, options, camera_from, scene);
     if (camera.up_axis >= 0) scene.declared_up = camera.up_axis;
     if (!scene.warnings.empty()) progress->finish();  // warnings start on a clean line
-    for (const std::string& w : scene.warnings) fmt::print(stderr, "hrad: warning: {}\n", w);
+    for (const std::string& w : scene.warnings)
+      if (w != kNoEmitterWarning)  // the solver says it, with what it skipped
+        fmt::print(stderr, "hrad: warning: {}\n", w);
     progress->update("preparing (hierarchy, rays, effects)", 0);
     out = a.out.empty() ? default_out_dir(scene) : fs::path(a.out);
     // A task trace goes with the run's other results: a relative path is inside the

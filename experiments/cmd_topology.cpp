@@ -46,7 +46,7 @@ void register_topology(CLI::App& app, CommandContext& ctx) {
                   "also print where `hrad solve --pin POLICY` would bind each refiner")
       ->check(CLI::IsMember({"none", "compact", "scatter", "node-round-robin"}));
   sub->add_option("-t,--threads", args->threads, "refiners for --pin (default: one per PU)")
-      ->check(CLI::Range(1, kMaxThreads));
+      ->transform(integer_in(1, kMaxThreads));
   sub->callback([&ctx, args] {
     try {
       const TopologyInfo t = discover_topology();

@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -44,6 +45,11 @@ CLI::Validator positive_number();
 /// A finite number (no nan, inf or wrap-around of "-1" into an unsigned option) between
 /// lo and hi inclusive, checked on the text before CLI11 converts it.
 CLI::Validator number_in(double lo, double hi);
+/// An integer between lo and hi inclusive, for integer options (add it with
+/// `->transform`: it rewrites the text as digits). A whole number in exponent form
+/// (1e6) is taken as that integer; one beyond the bounds (1e30, -1) is out of range, not
+/// "not an integer", and "-1" never wraps into an unsigned option.
+CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi);
 
 /// A command-line parse error in hrad's words, naming the command and the option:
 /// "solve: unknown option --bogus (see hrad solve --help)", "reference:

@@ -46,6 +46,31 @@ CLI::Validator number_in(double lo, double hi) {
       fmt::format("{:g} .. {:g}", lo, hi));
 }
 
+CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        const std::string range = fmt::format("must be between {} and {}, not {}", lo, hi, text);
+        const char* end = text.data() + text.size();
+        std::uint64_t v = 0;
+        const auto r = std::from_chars(text.data(), end, v);
+        if (r.ec == std::errc::result_out_of_range && r.ptr == end) return range;
+        if (r.ec != std::errc() || r.ptr != end) {
+          // Not plain digits: a whole number in another form (1e9), or a negative one.
+          double d = 0;
+          const auto rd = std::from_chars(text.data(), end, d);
+          if (rd.ec == std::errc::result_out_of_range && rd.ptr == end) return range;
+          if (rd.ec != std::errc() || rd.ptr != end || !std::isfinite(d) || d != std::trunc(d))
+            return "'" + text + "' is not an integer";
+          if (d < 0 || d >= 0x1p64) return range;
+          v = static_cast<std::uint64_t>(d);
+        }
+        if (v < lo || v > hi) return range;
+        text = std::to_string(v);  // digits, for CLI11's conversion
+        return std::string();
+      },
+      fmt::format("{} .. {}", lo, hi));
+}
+
 void print_error(std::string_view message) {
   if (message.size() <= kMaxErrorChars) {
     fmt::print(stderr, "hrad: {}\n", message);

@@ -67,4 +67,92 @@ TEST_F(OptionBounds, ExperimentAndSimulateNumbersAreFinite) {
   refused("simulate run/t.trace --costs costs.json --procs 2", "costs.json: not valid JSON");
 }
 
+// Seeds are never negative: reference --seed -1 wrapped to 2^64 - 1 (and ran), while
+// solve refused it as "not an unsigned integer"; now every place a seed is read says
+// it is out of range.
+TEST_F(OptionBounds, NegativeSeedsAreRefusedEverywhere) {
+  refused("reference builtin:cornell --random-probes 4 --seed -1 --out ref",
+          "--seed: must be between 0 and 18446744073709551615, not -1");
+  refused("compare a b --seed -1", "--seed: must be between 0 and");
+  refused("solve builtin:cornell --set seed=-1 --out run", "option seed = -1 is out of range");
+  write("s.json", R"({"seed": -1})");
+  refused("solve builtin:cornell --config s.json --out run",
+          "s.json: option seed = -1 is out of range");
+  write("exp.json", R"({"name": "x", "scenes": ["builtin:cornell"], "sweep": {"seed": [1, -1]}})");
+  refused("experiment exp.json --out x", "option seed = -1 is out of range");
+}
+
+// A whole number in exponent form is that integer, range-checked like any other:
+// threads = 1e9 said "expects an integer, got '1e9'", and 100000000000 (beyond an int)
+// the same.
+TEST_F(OptionBounds, IntegersInExponentFormAreRangeChecked) {
+  refused("solve builtin:cornell --set threads=1e9 --out run",
+          "option threads = 1000000000 is out of range: it must be between 1 and 1024");
+  refused("solve builtin:cornell --set iterations=100000000000 --out run",
+          "option iterations = 100000000000 is out of range: it must be between 1 and 10000");
+  refused("solve builtin:cornell --set threads=-1e12 --out run",
+          "option threads = -1e12 is out of range: it must be between 1 and 1024");
+  refused("solve builtin:cornell --set seed=1e30 --out run", "option seed = 1e30 is out of range");
+  refused("solve builtin:cornell --set threads=2.5 --out run", "expects an integer, got '2.5'");
+  write("t.json", R"({"threads": 1e10})");
+  refused("solve builtin:cornell --config t.json --out run", "t.json: option threads = ");
+  refused("solve builtin:cornell --config t.json --out run",
+          "is out of range: it must be between 1 and 1024");
+  refused("reference builtin:cornell --random-probes 1e9 --out ref",
+          "--random-probes: must be between 1 and 1048576, not 1e9");
+  refused("topology --threads 1e5", "--threads: must be between 1 and 1024, not 1e5");
+  refused("reference builtin:cornell --random-probes 2.5 --out ref", "'2.5' is not an integer");
+  // Within range, the exponent form is accepted.
+  const Result r =
+      hrad("reference builtin:cornell --random-probes 4e0 --max-samples 2e3 --out ref");
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// A cost file is bounded like the flags: {"take_op_ns": 1e308} was taken, and the CSV
+// held inf and -nan.
+TEST_F(OptionBounds, ACostFilesValuesAreBounded) {
+  ASSERT_EQ(
+      hrad("solve builtin:cornell --iterations 1 --set trace=t.trace --out run --quiet").status, 0);
+  for (const char* cost : {R"("take_op_ns": 1e308)", R"("block_ns": 1e300)", R"("slowdown": 1e308)",
+                           R"("slowdown_per_proc": 1e308)"}) {
+    write("costs.json", std::string("{") + cost + "}");
+    const std::string key = std::string(cost).substr(1, std::string(cost).find('"', 1) - 1);
+    refused("simulate run/t.trace --costs costs.json --procs 2",
+            "costs.json: '" + key + "' must be between");
+  }
+  write("costs.json", R"({"take_op_ns": 1e12, "slowdown": 2})");
+  EXPECT_EQ(hrad("simulate run/t.trace --costs costs.json --procs 2 --quiet").status, 0);
+}
+
+// hrad render checks its image's memory before it reads the mesh, as solve checks
+// image_width: --width 16384 went past 5.5 GB with no check under the default limit.
+TEST_F(OptionBounds, RenderRefusesAnImageAboveTheMemoryLimit) {
+  ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --set image_width=64 --set max_memory_gb=1 "
+                 "--out run --quiet")
+                .status,
+            0);
+  refused("render run --width 16384 --max-memory-gb 2",
+          "--width 16384: rendering 16384 x 12288 pixels needs about 12.1 GB, above the limit of "
+          "2 GB");
+  refused("render run --width 16384", "above the limit of 1 GB");  // the solve's limit
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "run" / "rerender.png"));
+  const Result r = hrad("render run --width 1.6e2 --max-memory-gb 1");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "160 x 120 pixels")) << r.out;
+}
+
+// Loading and preparing were checked against max_memory_gb only at their ends (a cabin
+// of four million polygons took 2.5 GB loading under 0.3 GB): the load stops as it
+// passes the limit, and preparing is refused before it starts when the polygons alone
+// need more.
+TEST_F(OptionBounds, LoadingAndPreparingStopAtTheMemoryLimit) {
+  const std::string cabin = "solve 'builtin:cabin?rows=30' --set image_width=64 --out run ";
+  refused(cabin + "--set max_memory_gb=0.01",
+          "builtin:cabin?rows=30: loading the scene took more than the limit of 0.01 GB");
+  // 165,128 polygons: about 40 MB loaded, then about 0.1 GB to prepare.
+  refused(cabin + "--set max_memory_gb=0.06",
+          "preparing the scene (165128 polygons: ray scene, hierarchy, contacts) needs about "
+          "0.0991 GB of memory, above the limit of 0.06 GB");
+}
+
 }  // namespace

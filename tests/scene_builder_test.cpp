@@ -1,7 +1,9 @@
 #include "core/scene/scene_builder.h"
+#include "core/scene/self_overlap.h"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -269,6 +271,58 @@ TEST(SceneBuilder, KeepsSimplePolygonsThatTouchThemselves) {
   std::swap(circle[100], circle[101]);
   EXPECT_NE(overlap_warning(one_polygon(circle)).find("edges 100 and 102 cross"), std::string::npos)
       << overlap_warning(one_polygon(circle));
+}
+
+// A star of many thin spikes: its slanted edges' boxes each cover dozens of the
+// crossing test's grid cells, and each cell holds dozens of edges. The grid tested every
+// pair in every cell it shared: 50,000 corners took seconds, 200,000 over a minute. The
+// sweep takes a fraction of a second at 200,000, with or without a crossing.
+std::vector<Vec3> star(int corners) {
+  std::vector<Vec3> p;
+  for (int i = 0; i < corners; ++i) {
+    const double a = 2 * 3.141592653589793 * i / corners, r = i % 2 == 0 ? 1.0 : 0.9;
+    p.emplace_back(r * std::cos(a), 0, -r * std::sin(a));
+  }
+  return p;
+}
+
+TEST(SceneBuilder, ChecksAManyPointedStarForCrossingsQuickly) {
+  std::vector<Vec3> p = star(200000);
+  auto start = std::chrono::steady_clock::now();
+  EXPECT_FALSE(find_self_overlap(p).found);
+  const double clean_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(clean_s, 3.0);      // (0.1 s here; the grid: minutes)
+  std::swap(p[5000], p[5002]);  // two outer corners: spikes cross their neighbours
+  start = std::chrono::steady_clock::now();
+  const SelfOverlap o = find_self_overlap(p);
+  EXPECT_TRUE(o.found);
+  EXPECT_NE(o.what.find("cross"), std::string::npos) << o.what;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 3.0);
+  // The whole load, triangulation included.
+  std::vector<Vec3> s = star(50000);
+  start = std::chrono::steady_clock::now();
+  const Scene scene = one_polygon(s);
+  EXPECT_EQ(scene.faces.size(), s.size() - 2 + 1);  // and one_polygon's triangle
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 3.0);
+}
+
+// More corners than kMaxPolygonVertices: refused with the file, line and count before
+// any work on the polygon.
+TEST(SceneBuilder, RefusesAPolygonWithTooManyCorners) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  std::vector<std::uint32_t> idx;
+  for (int i = 0; i < 3; ++i) idx.push_back(b.add_vertex(Vec3(i, i * i, 0), kHere));
+  idx.resize(kMaxPolygonVertices + 1, idx[0]);
+  try {
+    b.add_polygon(idx, m, SourceLoc{"big.obj", 12});
+    FAIL() << "not refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("big.obj:12: a face of 1048577 vertices: at most 1048576"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // A floor given again as two triangles was solved as a second floor (probes 35-48 %

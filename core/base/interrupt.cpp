@@ -1,8 +1,12 @@
 #include "core/base/interrupt.h"
 
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <csignal>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <mutex>
@@ -12,7 +16,8 @@ namespace hrad {
 namespace {
 
 std::atomic<int> g_signal{0};
-std::atomic<std::int64_t> g_first_ns{0};  // when the first signal arrived (monotonic)
+thread_local MemoryBudget* t_budget = nullptr;  // the innermost on this thread
+std::atomic<std::int64_t> g_first_ns{0};        // when the first signal arrived (monotonic)
 static_assert(std::atomic<int>::is_always_lock_free, "used from a signal handler");
 static_assert(std::atomic<std::int64_t>::is_always_lock_free, "used from a signal handler");
 
@@ -68,6 +73,35 @@ Interrupted::Interrupted(int signal)
 
 void throw_if_interrupted() {
   if (const int s = interrupt_signal(); s != 0) throw Interrupted(s);
+  if (MemoryBudget* b = t_budget; b != nullptr && b->limit_ > 0) {
+    const std::int64_t now = monotonic_ns();
+    if (now < b->next_check_ns_) return;
+    b->next_check_ns_ = now + 10'000'000;
+    const std::uint64_t rss = resident_bytes();
+    if (rss > b->start_ && rss - b->start_ > b->limit_)
+      throw MemoryExceeded(fmt::format(
+          "{} took more than the limit of {:.3g} GB of memory (max_memory_gb; 0 means 3/4 of "
+          "this machine's memory): stopped at {:.3g} GB, before it took more",
+          b->what_, static_cast<double>(b->limit_) / 1e9,
+          static_cast<double>(rss - b->start_) / 1e9));
+  }
+}
+
+MemoryBudget::MemoryBudget(std::uint64_t limit_bytes, std::string what)
+    : limit_(limit_bytes), start_(resident_bytes()), what_(std::move(what)), outer_(t_budget) {
+  t_budget = this;
+}
+
+MemoryBudget::~MemoryBudget() { t_budget = outer_; }
+
+std::uint64_t resident_bytes() {
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0;
+  unsigned long long size = 0, resident = 0;
+  const int got = std::fscanf(f, "%llu %llu", &size, &resident);
+  std::fclose(f);
+  const long page = ::sysconf(_SC_PAGE_SIZE);
+  return got == 2 && page > 0 ? resident * static_cast<std::uint64_t>(page) : 0;
 }
 
 void simulate_interrupt(int signal) {

@@ -1,5 +1,7 @@
 #include "core/config/effects.h"
 
+#include "core/base/interrupt.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -69,6 +71,7 @@ bool is_convex_enclosure(const Scene& scene, std::string* why) {
       return false;
     }
     for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+      poll_interrupt(f, 256);  // up to 2e8 tests in all
       const Face& face = scene.faces[f];
       const Vec3 n = scene.face_normal(f);
       // The plane through the centroid: faces may be planar only to 1e-3 of their

@@ -230,57 +230,112 @@ bool parse_number(std::string_view text, T& out) {
   return ec == std::errc() && ptr == end && !text.empty();
 }
 
-// Text -> typed value. Returns false when the whole text is not a valid value.
-bool parse_value(std::string_view text, int& out) { return parse_number(text, out); }
-bool parse_value(std::string_view text, std::uint64_t& out) { return parse_number(text, out); }
-bool parse_value(std::string_view text, double& out) {
-  return parse_number(text, out) && std::isfinite(out);
-}
-bool parse_value(std::string_view text, std::string& out) {
-  out = std::string(text);
-  return true;
-}
-template <NamedEnum E>
-bool parse_value(std::string_view text, E& out) {
-  const std::optional<E> v = enum_from_name<E>(text);
-  if (v) out = *v;
-  return v.has_value();
+// What reading a value gave: the value, text of another type, or a whole number beyond
+// what the key's integer type holds (told as out of range, not as "not an integer").
+enum class Parsed { kOk, kBad, kBeyond };
+
+Parsed parsed(bool ok) { return ok ? Parsed::kOk : Parsed::kBad; }
+
+// A whole number as an integer of type T: in range, kOk and `out` set; kBeyond when it
+// is finite and whole but T cannot hold it; kBad when it is not whole (or not finite).
+template <class T>
+Parsed whole_number_as(double d, T& out) {
+  if (!std::isfinite(d) || d != std::trunc(d)) return Parsed::kBad;
+  // 2^63 and 2^64 are exact doubles; the bounds of int are exact too.
+  const double hi = std::is_same_v<T, int> ? std::numeric_limits<int>::max() : 0x1p64;
+  const double lo = std::is_same_v<T, int> ? std::numeric_limits<int>::min() : 0;
+  if (d < lo || (std::is_same_v<T, int> ? d > hi : d >= hi)) return Parsed::kBeyond;
+  out = static_cast<T>(d);
+  return Parsed::kOk;
 }
 
-// JSON -> typed value, strict: no float for an integer, no string for a number.
-bool from_json_value(const nlohmann::json& j, int& out) {
-  if (j.is_number_unsigned()) {
-    const auto v = j.get<std::uint64_t>();
-    if (v > static_cast<std::uint64_t>(std::numeric_limits<int>::max())) return false;
-    out = static_cast<int>(v);
-    return true;
-  }
-  if (!j.is_number_integer()) return false;
-  const auto v = j.get<std::int64_t>();
-  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) return false;
-  out = static_cast<int>(v);
-  return true;
+// An integer key takes digits, or a whole number in any other form a number may be
+// written in (1e9, 2.5e3): "1e9" for threads is out of range, not "not an integer", and
+// "-1" for the seed is out of range too (it was refused as not an unsigned integer on
+// the command line, and wrapped to 2^64 - 1 where a flag read it).
+template <class T>
+Parsed parse_integer(std::string_view text, T& out) {
+  if (parse_number(text, out)) return Parsed::kOk;
+  double d = 0;
+  if (!parse_number(text, d)) return Parsed::kBad;
+  return whole_number_as(d, out);
 }
-bool from_json_value(const nlohmann::json& j, std::uint64_t& out) {
-  if (j.is_number_unsigned()) {
-    out = j.get<std::uint64_t>();
-    return true;
-  }
-  return false;  // negative integers and floats
+
+// Text -> typed value: kOk when the whole text is a valid value.
+Parsed parse_value(std::string_view text, int& out) { return parse_integer(text, out); }
+Parsed parse_value(std::string_view text, std::uint64_t& out) { return parse_integer(text, out); }
+Parsed parse_value(std::string_view text, double& out) {
+  return parsed(parse_number(text, out) && std::isfinite(out));
 }
-bool from_json_value(const nlohmann::json& j, double& out) {
-  if (!j.is_number()) return false;
-  out = j.get<double>();
-  return std::isfinite(out);
-}
-bool from_json_value(const nlohmann::json& j, std::string& out) {
-  if (!j.is_string()) return false;
-  out = j.get<std::string>();
-  return true;
+Parsed parse_value(std::string_view text, std::string& out) {
+  out = std::string(text);
+  return Parsed::kOk;
 }
 template <NamedEnum E>
-bool from_json_value(const nlohmann::json& j, E& out) {
-  return j.is_string() && parse_value(j.get<std::string>(), out);
+Parsed parse_value(std::string_view text, E& out) {
+  const std::optional<E> v = enum_from_name<E>(text);
+  if (v) out = *v;
+  return parsed(v.has_value());
+}
+
+// JSON -> typed value, strict: no fraction for an integer, no string for a number.
+template <class T>
+Parsed integer_from_json(const nlohmann::json& j, T& out) {
+  if (!j.is_number()) return Parsed::kBad;
+  if (j.is_number_unsigned()) {
+    const auto v = j.get<std::uint64_t>();
+    if (std::is_same_v<T, int> && v > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
+      return Parsed::kBeyond;
+    out = static_cast<T>(v);
+    return Parsed::kOk;
+  }
+  if (j.is_number_integer()) {  // a negative integer (JSON's others are unsigned)
+    const auto v = j.get<std::int64_t>();
+    if (!std::is_same_v<T, int> || v < std::numeric_limits<int>::min()) return Parsed::kBeyond;
+    out = static_cast<T>(v);
+    return Parsed::kOk;
+  }
+  return whole_number_as(j.get<double>(), out);  // 1e9 is a float in JSON
+}
+Parsed from_json_value(const nlohmann::json& j, int& out) { return integer_from_json(j, out); }
+Parsed from_json_value(const nlohmann::json& j, std::uint64_t& out) {
+  return integer_from_json(j, out);
+}
+Parsed from_json_value(const nlohmann::json& j, double& out) {
+  if (!j.is_number()) return Parsed::kBad;
+  out = j.get<double>();
+  return parsed(std::isfinite(out));
+}
+Parsed from_json_value(const nlohmann::json& j, std::string& out) {
+  if (!j.is_string()) return Parsed::kBad;
+  out = j.get<std::string>();
+  return Parsed::kOk;
+}
+template <NamedEnum E>
+Parsed from_json_value(const nlohmann::json& j, E& out) {
+  return j.is_string() ? parse_value(j.get<std::string>(), out) : Parsed::kBad;
+}
+
+/// The range error of an integer key given a whole number its type cannot hold
+/// (`text`, negative or not): the key's own rule, as validate_ranges words it for the
+/// nearest value the type holds, else the type's bounds.
+template <class T>
+[[noreturn]] void beyond_type(const Row& r, T S::*member, std::string_view text, bool negative,
+                              std::string_view source) {
+  std::string rule = fmt::format("an integer between {} and {}", std::numeric_limits<T>::min(),
+                                 std::numeric_limits<T>::max());
+  SolverOptions o;
+  o.*member = negative ? std::numeric_limits<T>::min() : std::numeric_limits<T>::max();
+  try {
+    validate_ranges(o);
+  } catch (const std::invalid_argument& e) {
+    const std::string_view what = e.what(), at = ": it must be ";
+    if (what.find(fmt::format("option {} = ", r.name)) == 0 && what.find(at) != what.npos)
+      rule = std::string(what.substr(what.find(at) + at.size()));
+  }
+  throw std::invalid_argument(fmt::format("{}{}option {} = {} is out of range: it must be {}",
+                                          source, source.empty() ? "" : ": ", r.name,
+                                          brief_text(text), rule));
 }
 
 /// What a value of this row must be, for a type error: "an integer", "a string", or
@@ -444,13 +499,17 @@ void apply_options_json(SolverOptions& o, const nlohmann::json& j, const std::st
     }
     std::visit(
         [&](auto member) {
-          auto parsed = o.*member;
-          if (!from_json_value(value, parsed))
+          auto v = o.*member;
+          const Parsed p = from_json_value(value, v);
+          if constexpr (std::is_integral_v<decltype(v)>)
+            if (p == Parsed::kBeyond)
+              beyond_type(*r, member, brief_json(value), value.get<double>() < 0, source);
+          if (p != Parsed::kOk)
             throw std::invalid_argument(fmt::format("{}: option '{}' expects {}, got {} {}", source,
-                                                    key, expected<decltype(parsed)>(*r),
+                                                    key, expected<decltype(v)>(*r),
                                                     value.type_name(), brief_json(value)));
-          check_syntax(*r, parsed, source);
-          o.*member = parsed;
+          check_syntax(*r, v, source);
+          o.*member = v;
         },
         r->member);
     if (value.is_number_float() && value.get<double>() == 0 && underflow.empty()) underflow = key;
@@ -481,13 +540,16 @@ void apply_option_value(SolverOptions& o, std::string_view key, std::string_view
   }
   std::visit(
       [&](auto member) {
-        auto parsed = o.*member;
-        if (!parse_value(value, parsed))
+        auto v = o.*member;
+        const Parsed p = parse_value(value, v);
+        if constexpr (std::is_integral_v<decltype(v)>)
+          if (p == Parsed::kBeyond) beyond_type(*r, member, value, value.starts_with('-'), source);
+        if (p != Parsed::kOk)
           throw std::invalid_argument(fmt::format("{}: option '{}' expects {}, got '{}'", source,
-                                                  r->name, expected<decltype(parsed)>(*r),
+                                                  r->name, expected<decltype(v)>(*r),
                                                   brief_text(value)));
-        check_syntax(*r, parsed, source);
-        o.*member = parsed;
+        check_syntax(*r, v, source);
+        o.*member = v;
       },
       r->member);
 }

@@ -1,6 +1,7 @@
 #include "core/hierarchy/hierarchy.h"
 
 #include "core/base/hash.h"
+#include "core/base/interrupt.h"
 
 #include <algorithm>
 #include <cassert>
@@ -53,24 +54,37 @@ Hierarchy::Hierarchy(const Scene& scene, int workers, const ArenaPlacement& plac
     if (f.count > 4) ngon_corners += f.count;
   ngon_store_.reserve(ngon_corners);  // never reallocated: elements point into it
 
-  root_ = allocate(1, 0);
-  root_->id = 0x68726164;  // "hrad"
-  root_->kind = ElementKind::Cluster;
-  build_cluster(*root_, 0, nf, 0);
+  // The build polls for an interrupt (a million polygons take seconds): what it made
+  // is destroyed before Interrupted leaves, as ~Hierarchy would.
+  try {
+    root_ = allocate(1, 0);
+    root_->id = 0x68726164;  // "hrad"
+    root_->kind = ElementKind::Cluster;
+    build_cluster(*root_, 0, nf, 0);
 
-  face_normal_.resize(nf);
-  for (std::uint32_t f = 0; f < nf; ++f) face_normal_[f] = scene.face_normal(f);
-  find_plane_runs();
-  fan_first_.assign(nf, 0);
-  for (std::uint32_t f = 0; f < nf; ++f) {
-    const Face& face = scene.faces[f];
-    if (face.count <= 3) continue;
-    fan_first_[f] = static_cast<std::uint32_t>(fan_area_.size());
-    auto v = [&](std::uint32_t i) -> const Vec3& {
-      return scene.vertices[scene.indices[face.first + i]];
-    };
-    for (std::uint32_t i = 1; i + 1 < face.count; ++i)
-      fan_area_.push_back((v(i) - v(0)).cross(v(i + 1) - v(0)).norm());
+    face_normal_.resize(nf);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      poll_interrupt(f);
+      face_normal_[f] = scene.face_normal(f);
+    }
+    find_plane_runs();
+    throw_if_interrupted();
+    fan_first_.assign(nf, 0);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      poll_interrupt(f);
+      const Face& face = scene.faces[f];
+      if (face.count <= 3) continue;
+      fan_first_[f] = static_cast<std::uint32_t>(fan_area_.size());
+      auto v = [&](std::uint32_t i) -> const Vec3& {
+        return scene.vertices[scene.indices[face.first + i]];
+      };
+      for (std::uint32_t i = 1; i + 1 < face.count; ++i)
+        fan_area_.push_back((v(i) - v(0)).cross(v(i + 1) - v(0)).norm());
+    }
+  } catch (...) {
+    for (const auto& a : arenas_)
+      for (std::span<Element> b : a->blocks) std::destroy(b.begin(), b.end());
+    throw;
   }
   prefix_area_.assign(nf + 1, 0.0);
   for (std::uint32_t i = 0; i < nf; ++i)
@@ -139,6 +153,7 @@ void Hierarchy::init_surface(Element& e, std::uint32_t face, Element* parent, st
 // Median split along the longest axis of the centroid bounds. Children are built
 // into one contiguous block: polygons directly when few remain.
 void Hierarchy::build_cluster(Element& c, std::uint32_t begin, std::uint32_t end, int depth) {
+  throw_if_interrupted();  // (one relaxed load a cluster)
   c.face = begin;
   c.face_end = end;
   c.depth = static_cast<std::uint8_t>(std::min(depth, 255));

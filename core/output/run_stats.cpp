@@ -1,5 +1,7 @@
 #include "core/output/run_stats.h"
 
+#include "core/base/interrupt.h"
+
 #include <fmt/format.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -17,15 +19,7 @@ std::uint64_t peak_rss_bytes() {
   return static_cast<std::uint64_t>(u.ru_maxrss) * 1024u;  // Linux reports KiB
 }
 
-std::uint64_t current_rss_bytes() {
-  std::FILE* f = std::fopen("/proc/self/statm", "r");
-  if (!f) return 0;
-  unsigned long long size = 0, resident = 0;
-  const int got = std::fscanf(f, "%llu %llu", &size, &resident);
-  std::fclose(f);
-  const long page = ::sysconf(_SC_PAGE_SIZE);
-  return got == 2 && page > 0 ? resident * static_cast<std::uint64_t>(page) : 0;
-}
+std::uint64_t current_rss_bytes() { return resident_bytes(); }
 
 IterationTotals sum_iterations(const std::vector<IterationStats>& iterations) {
   IterationTotals t;

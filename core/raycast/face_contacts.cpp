@@ -1,5 +1,6 @@
 #include "core/raycast/face_contacts.h"
 
+#include "core/base/interrupt.h"
 #include "core/raycast/ray_scene.h"
 
 #include <algorithm>
@@ -53,6 +54,7 @@ std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
   std::vector<Plane> plane(n);
   std::vector<Vec3> pts;
   for (std::size_t i = 0; i < n; ++i) {
+    poll_interrupt(i);  // a million polygons take seconds here and below
     pts.clear();
     for (std::uint32_t k = 0; k < polygons[i].count; ++k) pts.push_back(corner(i, k));
     Plane& p = plane[i];
@@ -76,6 +78,7 @@ std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
   const auto cell = [](double x) { return static_cast<int>(std::floor(x / kCell)); };
   std::unordered_map<Key, std::vector<std::uint32_t>, KeyHash> cells;
   for (std::size_t i = 0; i < n; ++i) {
+    poll_interrupt(i);
     if (contact[i]) continue;
     const Vec3& v = plane[i].n;
     for (int x = cell(v[0] - slack); x <= cell(v[0] + slack); ++x)
@@ -83,9 +86,11 @@ std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
         for (int z = cell(v[2] - slack); z <= cell(v[2] + slack); ++z)
           cells[Key{x, y, z}].push_back(static_cast<std::uint32_t>(i));
   }
-  for (auto& [key, members] : cells)
+  for (auto& [key, members] : cells) {
+    throw_if_interrupted();
     std::sort(members.begin(), members.end(),
               [&](std::uint32_t a, std::uint32_t b) { return plane[a].offset < plane[b].offset; });
+  }
 
   const double cos_min = std::cos(angle);
   // Whether polygon j comes within `tolerance` of polygon i's plane (its corners are not
@@ -112,6 +117,7 @@ std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
   };
 
   for (std::size_t i = 0; i < n; ++i) {
+    poll_interrupt(i);
     if (contact[i]) continue;
     const Vec3 r = -plane[i].n;
     const auto found = cells.find(Key{cell(r[0]), cell(r[1]), cell(r[2])});

@@ -1,5 +1,6 @@
 #include "core/raycast/face_twins.h"
 
+#include "core/base/interrupt.h"
 #include "core/raycast/ray_scene.h"
 #include "core/scene/polygon_key.h"
 #include "core/scene/scene.h"
@@ -26,11 +27,14 @@ std::vector<std::uint32_t> find_twins(std::span<const Vec3> vertices,
   std::vector<std::pair<std::size_t, std::uint32_t>> by_hash(n);
   std::vector<Vec3> p, q;
   for (std::size_t i = 0; i < n; ++i) {
+    poll_interrupt(i);
     corners(i, p);
     by_hash[i] = {cycle_hash(p), static_cast<std::uint32_t>(i)};
   }
   std::sort(by_hash.begin(), by_hash.end());
+  throw_if_interrupted();  // (the sort cannot stop midway)
   for (std::size_t i = 0; i < n; ++i) {
+    poll_interrupt(i);
     if (twin[i] != kNoTwin) continue;
     corners(i, p);
     const std::size_t h = cycle_hash(p, /*reversed=*/true);

@@ -15,6 +15,7 @@
 #include "core/raycast/ray_scene.h"
 
 #include "core/base/box_tree.h"
+#include "core/base/interrupt.h"
 #include "core/raycast/face_contacts.h"
 #include "core/raycast/face_twins.h"
 #include "core/scene/scene.h"
@@ -322,6 +323,7 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
   Aabb box;
   std::vector<Aabb> bounds(polygons.size());
   for (std::size_t i = 0; i < polygons.size(); ++i) {
+    poll_interrupt(i);  // each phase below checks too: a million polygons take seconds
     const PolygonRange& r = polygons[i];
     if (r.count < 3 || std::size_t{r.first} + r.count > indices.size())
       throw std::invalid_argument(fmt::format("RayScene: polygon {} has a bad index range", i));
@@ -336,7 +338,9 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
 
   m.contact = find_face_contacts(vertices, indices, polygons, m.twin, kContactReach * m.tolerance);
   m.set_coincidence(bounds);
+  throw_if_interrupted();
   m.near = BoxTree(std::move(bounds));
+  throw_if_interrupted();
 
   // Split into Embree primitives and record the double-precision planes.
   std::vector<std::uint32_t> tri_idx, quad_idx;
@@ -344,6 +348,7 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
   m.offset.resize(polygons.size());
   std::vector<Vec3> corners;
   for (std::size_t i = 0; i < polygons.size(); ++i) {
+    poll_interrupt(i);
     const PolygonRange& r = polygons[i];
     const std::uint32_t* v = indices.data() + r.first;
     corners.clear();
@@ -363,7 +368,8 @@ RayScene::RayScene(std::span<const Vec3> vertices, std::span<const std::uint32_t
     }
   }
 
-  m.build_embree(vertices, tri_idx, quad_idx, build);
+  throw_if_interrupted();
+  m.build_embree(vertices, tri_idx, quad_idx, build);  // (Embree's build cannot stop)
 }
 
 RayScene RayScene::from_scene(const Scene& scene, Build build) {
@@ -372,7 +378,9 @@ RayScene RayScene::from_scene(const Scene& scene, Build build) {
   for (const Face& f : scene.faces) polys.push_back({f.first, f.count});
   const std::vector<std::uint32_t> twins = find_twins(scene);
   static_assert(kNoTwin == kNoPolygon);
+  throw_if_interrupted();
   const Aabb bulk = scene.bulk_bounds();
+  throw_if_interrupted();
   return RayScene(scene.vertices, scene.indices, polys, build, twins, &bulk);
 }
 

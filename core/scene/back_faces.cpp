@@ -1,5 +1,6 @@
 #include "core/scene/back_faces.h"
 
+#include "core/base/interrupt.h"
 #include "core/scene/polygon_key.h"
 
 #include <fmt/format.h>
@@ -26,7 +27,10 @@ void add_back_faces(Scene& scene, Sides mode, EmitterSides emitters) {
   // The scene's cycles, to find faces whose back is already there.
   std::unordered_set<std::vector<double>, PositionsHash> cycles;
   cycles.reserve(n);
-  for (std::size_t f = 0; f < n; ++f) cycles.insert(cycle_key(scene.face_vertices(f)));
+  for (std::size_t f = 0; f < n; ++f) {
+    poll_interrupt(f);  // a million faces take seconds here and below
+    cycles.insert(cycle_key(scene.face_vertices(f)));
+  }
   // Per material, the material of its back faces: itself, or (an emitter, with
   // emitters = front) a copy without emission, made when first needed.
   std::vector<std::uint32_t> back_material(scene.materials.size());
@@ -44,6 +48,7 @@ void add_back_faces(Scene& scene, Sides mode, EmitterSides emitters) {
     return back_material[m];
   };
   for (std::size_t f = 0; f < n; ++f) {
+    poll_interrupt(f);
     if (!wanted(f)) continue;
     if (cycles.count(cycle_key(scene.face_vertices(f), /*reversed=*/true))) {
       ++scene.back_faces_present;

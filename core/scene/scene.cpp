@@ -1,5 +1,7 @@
 #include "core/scene/scene.h"
 
+#include "core/base/interrupt.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -45,6 +47,7 @@ Aabb Scene::bulk_bounds(double share) const {
   if (!(total > 0)) return bounds();
   std::vector<std::pair<double, double>> at(corner.size());  // (coordinate, weight)
   for (int axis = 0; axis < 3; ++axis) {
+    throw_if_interrupted();  // (a sort of 4 M corners cannot stop midway)
     for (std::size_t k = 0; k < corner.size(); ++k)
       at[k] = {(*corner[k].first)[axis], corner[k].second};
     std::sort(at.begin(), at.end());

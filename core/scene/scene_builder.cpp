@@ -82,6 +82,11 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
   if (idx.size() < 3)
     throw InputError(at.file, at.line,
                      fmt::format("a face needs at least 3 vertices, this one has {}", idx.size()));
+  if (idx.size() > kMaxPolygonVertices)
+    throw InputError(at.file, at.line,
+                     fmt::format("a face of {} vertices: at most {} are taken (give it as "
+                                 "several polygons)",
+                                 idx.size(), kMaxPolygonVertices));
   for (std::uint32_t i : idx)
     if (i >= scene_.vertices.size())
       throw InputError(at.file, at.line,
@@ -283,7 +288,7 @@ Scene SceneBuilder::finish(const std::string& file) {
                     "as its own surface, so the area they share reflects and emits twice; give "
                     "each surface once",
                     o.pairs, o.area, o.first.x(), o.first.y(), o.first.z()));
-  if (scene_.emitter_count() == 0) warn("no face emits light: the solution is zero everywhere");
+  if (scene_.emitter_count() == 0) warn(kNoEmitterWarning);
   return std::move(scene_);
 }
 

@@ -36,6 +36,16 @@ inline constexpr double kMinExitance = 1e-20;
 /// area are reported (core/scene/coplanar_overlap.h).
 inline constexpr double kCoplanarOverlapShare = 1e-3;
 
+/// Most corners one input polygon may have (1,048,576), refused with its file, line and
+/// count before any work on it: the checks and the triangulation of a polygon at the
+/// bound take seconds (docs/bad-input.md), and one polygon gives the solver as many
+/// slivers.
+inline constexpr std::size_t kMaxPolygonVertices = std::size_t{1} << 20;
+/// The scene builder's warning for a scene without emitters. A solve does not print it:
+/// the solver says the same, with what it skipped ("scene has no emitter: ...").
+inline constexpr const char* kNoEmitterWarning =
+    "no face emits light: the solution is zero everywhere";
+
 class SceneBuilder {
  public:
   SceneBuilder(std::string name, std::string source);
@@ -49,7 +59,7 @@ class SceneBuilder {
   /// and counted in a warning.
   std::uint32_t default_material();
   /// A polygon by indices into the vertices added so far. Throws on an index out of
-  /// range or fewer than 3 vertices; drops zero-area faces (counted) and copies of an
+  /// range, fewer than 3 vertices or more than kMaxPolygonVertices; drops zero-area faces (counted) and copies of an
   /// earlier polygon (the same vertex positions in the same cyclic order, counted:
   /// a coincident copy would reflect and emit its light twice); triangulates
   /// non-planar or non-convex polygons (counted).

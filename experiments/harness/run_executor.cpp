@@ -3,6 +3,7 @@
 #include "core/base/clock.h"
 #include "core/base/progress.h"
 #include "core/config/options_io.h"
+#include "core/scene/scene_builder.h"
 #include "core/scene/scene_loader.h"
 #include "core/solver/solver.h"
 #include "experiments/harness/manifest.h"
@@ -38,9 +39,11 @@ void RunExecutor::load(const std::string& spec, const SceneLoadOptions& options)
   scene_ = load_scene(spec, options);
   scene_spec_ = spec;
   scene_options_ = options;
+  printed_.clear();
   if (!quiet_)
     for (const std::string& w : scene_->warnings)
-      fmt::print(log_, "hrad: warning: {}: {}\n", spec, w);
+      if (w != kNoEmitterWarning)  // each run's solver says it, with what it skipped
+        fmt::print(log_, "hrad: warning: {}: {}\n", spec, w);
   if (!config_.accuracy.enabled) return;
   const fs::path cached = dir_ / reference_file_name(spec);
   if (cached_only_ && !fs::exists(cached))
@@ -73,9 +76,11 @@ RunOutcome RunExecutor::run(const SweepPoint& p, int repetition, const std::stri
     if (reference_) out.accuracy = measure_accuracy(solver, *reference_, config_.accuracy);
   }
   progress.finish();
+  // A warning about the scene comes from every run of it ("scene has no emitter"): the
+  // log has it once per scene, runs.csv with each run.
   if (!quiet_)
     for (const std::string& w : stats.warnings)
-      fmt::print(log_, "hrad: warning: {}: {}\n", label, w);
+      if (printed_.insert(w).second) fmt::print(log_, "hrad: warning: {}: {}\n", label, w);
   out.rows = make_run_rows(config_.name, p, repetition, stats, started,
                            out.accuracy ? &*out.accuracy : nullptr, origin);
   out.task_cpu_ns = stats.totals.task_cpu_ns;

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 
 namespace hrad::experiment {
@@ -53,6 +54,7 @@ class RunExecutor {
   std::optional<SceneReference> reference_;
   std::string scene_spec_;
   SceneLoadOptions scene_options_;  ///< the `sides` and `segments` it was loaded with
+  std::set<std::string> printed_;   ///< the runs' warnings logged for this scene
   void load(const std::string& spec, const SceneLoadOptions& options);
 };
 

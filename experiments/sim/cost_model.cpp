@@ -30,6 +30,9 @@ const char* const kNotModelled[] = {
     "locality",
 };
 
+// The largest time a cost file may give, in ns (1,000 s), as the flags allow.
+constexpr double kMaxCostNs = 1e12;
+
 // Field name -> member, for the JSON file and its echo.
 const std::pair<const char*, double CostModel::*> kFields[] = {
     {"take_op_ns", &CostModel::take_op_ns},
@@ -169,13 +172,17 @@ void load_costs(const std::filesystem::path& file, CostModel& costs) {
     if (!value.is_number())
       throw std::runtime_error(fmt::format("{}: '{}' must be a number", file.string(), key));
     const double v = value.get<double>();
-    const bool share = key == std::string("outside_serial_share");
-    if (key == std::string("slowdown") ? !(v > 0) : share ? !(v >= 0 && v <= 1) : !(v >= 0))
-      throw std::runtime_error(fmt::format("{}: '{}' must be {}, not {}", file.string(), key,
-                                           key == std::string("slowdown") ? "> 0"
-                                           : share                        ? "in 0..1"
-                                                                          : ">= 0",
-                                           v));
+    // The bounds of the flags that set the same costs (--take-ns ... 0 to 1e12 ns,
+    // --slowdown 1e-3 to 1e3): a cost of 1e308 ns was taken, and the simulated times
+    // summed to inf and their ratios to nan in the CSV.
+    const std::string_view k = key;
+    const auto [lo, hi] = k == "slowdown"               ? std::pair{1e-3, 1e3}
+                          : k == "slowdown_per_proc"    ? std::pair{0.0, 1e3}
+                          : k == "outside_serial_share" ? std::pair{0.0, 1.0}
+                                                        : std::pair{0.0, kMaxCostNs};
+    if (!(v >= lo && v <= hi))
+      throw std::runtime_error(fmt::format("{}: '{}' must be between {:g} and {:g}, not {}",
+                                           file.string(), key, lo, hi, value.dump()));
     costs.*field = v;
   }
 }

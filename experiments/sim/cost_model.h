@@ -94,8 +94,9 @@ struct CostModel {
 CostModel default_costs(Policy policy);
 
 /// Overrides fields of `costs` from a JSON object whose keys are the field names
-/// above; an unknown key, a non-number or a negative value (slowdown: not > 0) is an
-/// error naming the file.
+/// above; an unknown key, a non-number or a value out of its bounds is an error naming
+/// the file and key: times 0 to 1e12 ns, slowdown 1e-3 to 1e3, slowdown_per_proc 0 to
+/// 1e3, outside_serial_share 0 to 1 (those of the flags that set the same costs).
 void load_costs(const std::filesystem::path& file, CostModel& costs);
 
 /// The model as one JSON object (the field names above).
