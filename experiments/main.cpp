@@ -49,7 +49,8 @@ CLI::Validator number_in(double lo, double hi) {
 CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi) {
   return CLI::Validator(
       [lo, hi](std::string& text) -> std::string {
-        const std::string range = fmt::format("must be between {} and {}, not {}", lo, hi, text);
+        // The same words as number_in: "'x' is not an integer in 1..8", "0 is outside 1..8".
+        const std::string range = fmt::format("{} is outside {}..{}", text, lo, hi);
         const char* end = text.data() + text.size();
         std::uint64_t v = 0;
         const auto r = std::from_chars(text.data(), end, v);
@@ -60,7 +61,7 @@ CLI::Validator integer_in(std::uint64_t lo, std::uint64_t hi) {
           const auto rd = std::from_chars(text.data(), end, d);
           if (rd.ec == std::errc::result_out_of_range && rd.ptr == end) return range;
           if (rd.ec != std::errc() || rd.ptr != end || !std::isfinite(d) || d != std::trunc(d))
-            return "'" + text + "' is not an integer";
+            return fmt::format("'{}' is not an integer in {}..{}", text, lo, hi);
           if (d < 0 || d >= 0x1p64) return range;
           v = static_cast<std::uint64_t>(d);
         }

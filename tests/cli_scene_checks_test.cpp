@@ -28,8 +28,7 @@ std::string box(bool lit) {
 
 int count(const std::string& text, const std::string& what) {
   int n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
-    ++n;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
 }
 
@@ -41,7 +40,8 @@ TEST_F(SceneChecks, AnExperimentsSceneThatDoesNotParseMakesNoFolder) {
   write("broken.obj", box(true) + "f 1 2 99\n");
   write("exp.json",
         R"({"name": "x", "scenes": ["builtin:cornell", "broken.obj"], "sweep": {"threads": [1]}})");
-  refused("experiment exp.json --out x --no-plot", "broken.obj:18: vertex index 99 is out of range");
+  refused("experiment exp.json --out x --no-plot",
+          "broken.obj:18: vertex index 99 is out of range");
   refused("experiment exp.json --dry-run --no-estimate", "broken.obj:18:");
   EXPECT_FALSE(fs::exists(dir_ / "x"));
 }

@@ -142,7 +142,7 @@ TEST_F(Cli, ParseErrorsNameTheOptionInPlainWords) {
   says(r, "hrad: solve: SCENE is missing (see hrad solve --help)");
   r = hrad("reference builtin:cornell --random-probes x --out ref");
   EXPECT_EQ(r.status, 1);
-  says(r, "hrad: reference: --random-probes: 'x' is not a number in 1..1048576");
+  says(r, "hrad: reference: --random-probes: 'x' is not an integer in 1..1048576");
   r = hrad("reference builtin:cornell --random-probes 0 --out ref");
   EXPECT_EQ(r.status, 1);
   says(r, "hrad: reference: --random-probes: 0 is outside 1..1048576");

@@ -3,7 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -286,25 +285,20 @@ std::vector<Vec3> star(int corners) {
   return p;
 }
 
-TEST(SceneBuilder, ChecksAManyPointedStarForCrossingsQuickly) {
+// Its time is hrad_micro_bench's SelfOverlapStar (a test must not time itself); here the
+// answers, on a star big enough that the grid's minutes would run past the test's
+// timeout.
+TEST(SceneBuilder, ChecksAManyPointedStarForCrossings) {
   std::vector<Vec3> p = star(200000);
-  auto start = std::chrono::steady_clock::now();
   EXPECT_FALSE(find_self_overlap(p).found);
-  const double clean_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_LT(clean_s, 3.0);      // (0.1 s here; the grid: minutes)
   std::swap(p[5000], p[5002]);  // two outer corners: spikes cross their neighbours
-  start = std::chrono::steady_clock::now();
   const SelfOverlap o = find_self_overlap(p);
   EXPECT_TRUE(o.found);
   EXPECT_NE(o.what.find("cross"), std::string::npos) << o.what;
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 3.0);
   // The whole load, triangulation included.
-  std::vector<Vec3> s = star(50000);
-  start = std::chrono::steady_clock::now();
+  const std::vector<Vec3> s = star(50000);
   const Scene scene = one_polygon(s);
   EXPECT_EQ(scene.faces.size(), s.size() - 2 + 1);  // and one_polygon's triangle
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 3.0);
 }
 
 // More corners than kMaxPolygonVertices: refused with the file, line and count before
