@@ -227,7 +227,9 @@ TEST_P(BuiltinDefaults, BuildsCleanly) {
   EXPECT_EQ(s.source, spec);
   EXPECT_GT(s.emitter_count(), 0u);
   EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
-  for (const Face& f : s.faces) ASSERT_TRUE(f.count == 3 || f.count == 4);
+  // Triangles and quads, and convex pieces of those where boxes that overlap share
+  // a plane (the office's and the lab's chair bases, core/scene/coplanar_overlap.h).
+  for (const Face& f : s.faces) ASSERT_TRUE(f.count >= 3 && f.count <= 8) << f.count;
   ASSERT_TRUE(s.camera.has_value());
   EXPECT_GT((s.camera->target - s.camera->eye).norm(), 0.1);
   if (GetParam() != "cornell") {  // rooms are seen from inside

@@ -551,7 +551,7 @@ TEST_F(HostileInput, RoughEdgesAreSmoothed) {
   r = hrad("solve builtin:lab --set max_memory_gb=0.02 --set image_width=64 --out mem");
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(
-      contains(r.err, "preparing the scene (30380 polygons: ray scene, hierarchy, contacts)"))
+      contains(r.err, "preparing the scene (30872 polygons: ray scene, hierarchy, contacts)"))
       << r.err;
   EXPECT_TRUE(contains(r.err, "the limit of 0.02 GB")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "mem"));

@@ -328,7 +328,9 @@ TEST(ObjGeometry, PolygonsWithMoreThan255VerticesSurvive) {
     obj += fmt_vertex(std::cos(2 * kPi * i / n), std::sin(2 * kPi * i / n));
   obj += "f";
   for (int i = 1; i <= n; ++i) obj += " " + std::to_string(i);
-  const Scene s = parse_obj(obj + "\nf 1 2 3\n", "", "t.obj");
+  // The triangle faces the other way: one facing the same way would lie under the
+  // 300-gon and be cut away (core/scene/coplanar_overlap.h).
+  const Scene s = parse_obj(obj + "\nf 3 2 1\n", "", "t.obj");
   ASSERT_EQ(s.polygon_count(), 2u);
   EXPECT_EQ(s.faces[0].count, 300u);
   EXPECT_NEAR(s.face_area(0), 0.5 * n * std::sin(2 * kPi / n), 1e-12);

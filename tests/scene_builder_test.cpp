@@ -186,13 +186,14 @@ TEST(SceneBuilder, DropsAndCountsDuplicateFaces) {
   const std::uint32_t same[4] = {0, 1, 2, 3};  // the first polygon's own vertices again
   b.add_polygon(same, m, kHere);
   const Scene s = b.finish("f");
-  EXPECT_EQ(s.faces.size(), 3u);
   ASSERT_EQ(s.warnings.size(), 2u);
   EXPECT_NE(s.warnings[0].find("3 duplicate face(s) dropped"), std::string::npos) << s.warnings[0];
-  // The copy shifted by 1e-9 is kept, but reported as overlapping the first.
-  EXPECT_NE(s.warnings[1].find("1 pair(s) of faces lie in one plane"), std::string::npos)
+  // The copy shifted by 1e-9 is not a repeat, but lies in the first one's plane, under
+  // it: cut away as an overlap (CutsCoplanarFacesThatOverlapOutOfTheLaterFace).
+  EXPECT_NE(s.warnings[1].find("1 lay wholly under earlier faces"), std::string::npos)
       << s.warnings[1];
-  EXPECT_DOUBLE_EQ(s.total_area(), 3.0);
+  EXPECT_EQ(s.faces.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.total_area(), 2.0);
 }
 
 // Polygons that cover part of their area twice or with both orientations are dropped,
@@ -320,43 +321,81 @@ TEST(SceneBuilder, RefusesAPolygonWithTooManyCorners) {
 }
 
 // A floor given again as two triangles was solved as a second floor (probes 35-48 %
-// too bright) without a word. Coplanar faces facing the same way that share area are
-// reported, with the area they share; the reversed face (a sheet's other side), faces
-// that only touch along an edge, and small overlaps (below 1e-3 of the scene's area) are
-// not.
-TEST(SceneBuilder, ReportsCoplanarFacesThatOverlap) {
-  const auto build = [](const std::vector<std::vector<Vec3>>& polys) {
+// too bright) without a word. What a later face shares with an earlier one in its
+// plane, facing the same way, is cut out of the later face: the covered area counts
+// once, the rest stays as convex pieces with the later face's material, and the cut is
+// reported with the area. The reversed face (a sheet's other side), faces that only
+// touch along an edge and a parallel plane are left alone; small overlaps (below 1e-3
+// of the scene's area) are cut without a report.
+TEST(SceneBuilder, CutsCoplanarFacesThatOverlapOutOfTheLaterFace) {
+  const auto build = [](const std::vector<std::vector<Vec3>>& polys, double later_emits = 0) {
     SceneBuilder b("t", "t");
     const auto m = b.add_material(grey(0.5, 1), kHere);
-    for (const auto& p : polys) b.add_polygon(p, m, kHere);
+    const auto lit = b.add_material(grey(0.5, later_emits), kHere);
+    for (std::size_t i = 0; i < polys.size(); ++i) b.add_polygon(polys[i], i == 0 ? m : lit, kHere);
     return b.finish("test.obj");
   };
-  const auto warning = [](const Scene& s) {
+  const auto warning = [](const Scene& s, const char* what) {
     for (const std::string& w : s.warnings)
-      if (w.find("lie in one plane") != std::string::npos) return w;
+      if (w.find(what) != std::string::npos) return w;
     return std::string();
   };
+  const char* cut = "lay in one plane with an earlier face";
   const std::vector<Vec3> floor = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};
   const std::vector<Vec3> t1 = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}},
                           t2 = {{0, 0, 0}, {2, 2, 0}, {0, 2, 0}};
-  std::string w = warning(build({floor, t1, t2}));
-  EXPECT_NE(w.find("2 pair(s) of faces lie in one plane, face the same way and overlap (4 "
-                   "units² in common"),
+  // The floor again as two triangles: both lie under it and go.
+  Scene s = build({floor, t1, t2}, 7.0);
+  EXPECT_EQ(s.faces.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.total_area(), 4.0);
+  EXPECT_EQ(s.emitter_count(), 1u);  // the first face's material: the floor's own emission
+  std::string w = warning(s, cut);
+  EXPECT_NE(w.find("2 face(s) lay in one plane with an earlier face, facing the same way, and "
+                   "overlapped it (4 units² in common"),
             std::string::npos)
       << w;
-  // Half of the floor again, shifted: 2 units² shared.
-  w = warning(build({floor, {{1, 0, 0}, {3, 0, 0}, {3, 2, 0}, {1, 2, 0}}}));
-  EXPECT_NE(w.find("1 pair(s)"), std::string::npos) << w;
+  EXPECT_NE(w.find("2 lay wholly under earlier faces and were dropped"), std::string::npos) << w;
+  EXPECT_EQ(warning(s, "lie in one plane"), "");  // nothing left to report
+  // Half of the floor again, shifted: 2 units² shared, the other half kept, with the
+  // later face's emission, in the later face's orientation.
+  s = build({floor, {{1, 0, 0}, {3, 0, 0}, {3, 2, 0}, {1, 2, 0}}}, 7.0);
+  EXPECT_NEAR(s.total_area(), 6.0, 1e-12);
+  ASSERT_EQ(s.faces.size(), 2u);
+  EXPECT_NEAR(s.face_area(1), 2.0, 1e-12);
+  EXPECT_NEAR(s.face_normal(1).z(), 1.0, 1e-12);
+  EXPECT_NEAR(s.emitted_power()[0], 7.0 * 2.0 + 1.0 * 4.0, 1e-9);
+  w = warning(s, cut);
+  EXPECT_NE(w.find("1 face(s)"), std::string::npos) << w;
   EXPECT_NE(w.find("(2 units² in common"), std::string::npos) << w;
-  // Not reported: the other side, a neighbour along an edge, a parallel plane.
-  EXPECT_EQ(warning(build({floor, {{0, 0, 0}, {0, 2, 0}, {2, 2, 0}, {2, 0, 0}}})), "");
-  EXPECT_EQ(warning(build({floor, {{2, 0, 0}, {4, 0, 0}, {4, 2, 0}, {2, 2, 0}}})), "");
-  EXPECT_EQ(warning(build({floor, {{0, 0, 1e-3}, {2, 0, 1e-3}, {2, 2, 1e-3}, {0, 2, 1e-3}}})), "");
-  // A tiny overlap in a large scene is below the report's share.
-  EXPECT_EQ(warning(build({{{0, 0, 0}, {100, 0, 0}, {100, 100, 0}, {0, 100, 0}},
-                           {{0, 0, 5}, {0.1, 0, 5}, {0.1, 0.1, 5}},
-                           {{0, 0, 5}, {0.1, 0, 5}, {0.1, 0.1, 5}, {0, 0.1, 5}}})),
-            "");
+  EXPECT_NE(w.find("kept as 1 convex piece(s)"), std::string::npos) << w;
+  // A square over the middle of the floor's edge: an L-shaped remains, in convex
+  // pieces, of the right area; later faces are cut by every earlier one (a third face
+  // over both loses what either covers).
+  s = build({floor,
+             {{1, 1, 0}, {3, 1, 0}, {3, 3, 0}, {1, 3, 0}},
+             {{0.5, 0.5, 0}, {2.5, 0.5, 0}, {2.5, 2.5, 0}, {0.5, 2.5, 0}}});
+  EXPECT_NEAR(s.total_area(), 4.0 + 3.0 + (4.0 - 2.25 - 1.25), 1e-9);
+  for (std::size_t f = 0; f < s.faces.size(); ++f) {
+    EXPECT_GT(s.face_area(f), 0);
+    EXPECT_NEAR(s.face_normal(f).z(), 1.0, 1e-12);
+  }
+  EXPECT_EQ(warning(s, "lie in one plane"), "");
+  // Left alone: the other side, a neighbour along an edge, a parallel plane.
+  for (const std::vector<Vec3>& other :
+       {std::vector<Vec3>{{0, 0, 0}, {0, 2, 0}, {2, 2, 0}, {2, 0, 0}},
+        std::vector<Vec3>{{2, 0, 0}, {4, 0, 0}, {4, 2, 0}, {2, 2, 0}},
+        std::vector<Vec3>{{0, 0, 1e-3}, {2, 0, 1e-3}, {2, 2, 1e-3}, {0, 2, 1e-3}}}) {
+    s = build({floor, other});
+    EXPECT_EQ(s.faces.size(), 2u);
+    EXPECT_NEAR(s.total_area(), 8.0, 1e-12);
+    EXPECT_EQ(warning(s, cut), "");
+  }
+  // A tiny overlap in a large scene is cut, below the report's share.
+  s = build({{{0, 0, 0}, {100, 0, 0}, {100, 100, 0}, {0, 100, 0}},
+             {{0, 0, 5}, {0.1, 0, 5}, {0.1, 0.1, 5}},
+             {{0, 0, 5}, {0.1, 0, 5}, {0.1, 0.1, 5}, {0, 0.1, 5}}});
+  EXPECT_EQ(warning(s, cut), "");
+  EXPECT_NEAR(s.total_area(), 1e4 + 0.01, 1e-9);
 }
 
 TEST(SceneBuilder, RejectsBadVerticesWithFileAndLine) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -24,23 +25,44 @@ double area(const std::vector<Point>& p) {
   return 0.5 * a;
 }
 
+// The part of convex polygon `a` to the left of the line p -> q (right of it when
+// `left` is false); a point on the line counts as left.
+std::vector<Point> clip_half(const std::vector<Point>& a, const Point& p, const Point& q,
+                             bool left) {
+  std::vector<Point> out;
+  const auto side = [&](const Point& x) {
+    const double d = orient2d(p, q, x);
+    return left ? d : -d;
+  };
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Point& s = a[i];
+    const Point& t = a[(i + 1) % a.size()];
+    const double ds = side(s), dt = side(t);
+    if (ds >= 0) out.push_back(s);
+    if ((ds >= 0) != (dt >= 0)) out.push_back(s + (ds / (ds - dt)) * (t - s));
+  }
+  return out;
+}
+
 // The part of convex polygon `a` inside convex polygon `b`, both counter-clockwise
 // (Sutherland-Hodgman).
 std::vector<Point> clip(std::vector<Point> a, const std::vector<Point>& b) {
-  for (std::size_t e = 0; e < b.size() && !a.empty(); ++e) {
-    const Point& p = b[e];
-    const Point& q = b[(e + 1) % b.size()];
-    std::vector<Point> out;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      const Point& s = a[i];
-      const Point& t = a[(i + 1) % a.size()];
-      const double ds = orient2d(p, q, s), dt = orient2d(p, q, t);
-      if (ds >= 0) out.push_back(s);
-      if ((ds >= 0) != (dt >= 0)) out.push_back(s + (ds / (ds - dt)) * (t - s));
-    }
-    a = std::move(out);
-  }
+  for (std::size_t e = 0; e < b.size() && !a.empty(); ++e)
+    a = clip_half(a, b[e], b[(e + 1) % b.size()], true);
   return a;
+}
+
+// Convex polygon `a` less convex polygon `b`, as convex pieces: for each edge of `b`,
+// what of `a` lies outside it and inside the edges before it.
+std::vector<std::vector<Point>> subtract(std::vector<Point> a, const std::vector<Point>& b) {
+  std::vector<std::vector<Point>> pieces;
+  for (std::size_t e = 0; e < b.size() && a.size() >= 3; ++e) {
+    const Point &p = b[e], &q = b[(e + 1) % b.size()];
+    std::vector<Point> out = clip_half(a, p, q, false);
+    if (out.size() >= 3 && area(out) > 0) pieces.push_back(std::move(out));
+    a = clip_half(a, p, q, true);
+  }
+  return pieces;
 }
 
 struct Flat {
@@ -50,13 +72,21 @@ struct Flat {
   double area;
 };
 
-}  // namespace
+struct Frame {
+  Vec3 n, u, v;  // (u, v, n) right-handed: faces are counter-clockwise in (u, v)
+};
 
-CoplanarOverlaps find_coplanar_overlaps(const Scene& scene, std::span<const std::uint32_t> source) {
-  CoplanarOverlaps r;
+struct Plane {
+  Frame frame;
+  std::vector<Flat> flats;
+};
+
+// Faces by plane: the normal to 1e-6 and the offset to 1e-7 of the diagonal; only
+// planes with two faces or more.
+std::vector<std::vector<std::size_t>> plane_groups(const Scene& scene) {
+  std::vector<std::vector<std::size_t>> out;
   const double diag = scene.bounds().diagonal();
-  if (!(diag > 0)) return r;
-  // Faces by plane: the normal to 1e-6 and the offset to 1e-7 of the diagonal.
+  if (!(diag > 0)) return out;
   std::map<std::tuple<long long, long long, long long, long long>, std::vector<std::size_t>> planes;
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     const Vec3 n = scene.face_normal(f);
@@ -66,43 +96,184 @@ CoplanarOverlaps find_coplanar_overlaps(const Scene& scene, std::span<const std:
     };
     planes[{q(n.x(), 1e-6), q(n.y(), 1e-6), q(n.z(), 1e-6), q(d, 1e-7 * diag)}].push_back(f);
   }
-  for (const auto& [key, group] : planes) {
-    if (group.size() < 2) continue;
-    const Vec3 n = scene.face_normal(group.front());
-    const Vec3 u = n.unitOrthogonal();
-    const Vec3 v = n.cross(u);  // (u, v, n) right-handed: faces are counter-clockwise
-    std::vector<Flat> flats;
-    flats.reserve(group.size());
-    for (const std::size_t f : group) {
-      Flat fl{f, {}, Point::Constant(INFINITY), Point::Constant(-INFINITY), 0};
-      for (const Vec3& x : scene.face_vertices(f)) {
-        fl.p.emplace_back(x.dot(u), x.dot(v));
-        fl.lo = fl.lo.cwiseMin(fl.p.back());
-        fl.hi = fl.hi.cwiseMax(fl.p.back());
-      }
-      fl.area = area(fl.p);
-      if (fl.area > 0) flats.push_back(std::move(fl));
+  for (auto& [key, group] : planes)
+    if (group.size() >= 2) out.push_back(std::move(group));
+  return out;
+}
+
+// One plane's faces of positive area, in the plane's frame (built one plane at a time:
+// a scene's faces all at once took a cabin's load past its memory limit).
+Plane make_plane(const Scene& scene, const std::vector<std::size_t>& group) {
+  Plane pl;
+  pl.frame.n = scene.face_normal(group.front());
+  pl.frame.u = pl.frame.n.unitOrthogonal();
+  pl.frame.v = pl.frame.n.cross(pl.frame.u);
+  pl.flats.reserve(group.size());
+  for (const std::size_t f : group) {
+    Flat fl{f, {}, Point::Constant(INFINITY), Point::Constant(-INFINITY), 0};
+    for (const Vec3& x : scene.face_vertices(f)) {
+      fl.p.emplace_back(x.dot(pl.frame.u), x.dot(pl.frame.v));
+      fl.lo = fl.lo.cwiseMin(fl.p.back());
+      fl.hi = fl.hi.cwiseMax(fl.p.back());
     }
-    std::sort(flats.begin(), flats.end(), [](const Flat& a, const Flat& b) {
-      return a.lo.x() != b.lo.x() ? a.lo.x() < b.lo.x() : a.face < b.face;
-    });
-    std::size_t checks = 0;
-    for (std::size_t i = 0; i < flats.size() && checks < kMaxOverlapChecks; ++i) {
-      poll_interrupt(i);
-      for (std::size_t j = i + 1; j < flats.size() && flats[j].lo.x() < flats[i].hi.x(); ++j) {
-        if (++checks >= kMaxOverlapChecks) break;
-        poll_interrupt(checks);
-        const Flat &a = flats[i], &b = flats[j];
-        if (b.lo.y() >= a.hi.y() || a.lo.y() >= b.hi.y()) continue;
-        if (!source.empty() && source[a.face] == source[b.face]) continue;
-        const double shared = area(clip(a.p, b.p));
-        if (!(shared > 1e-6 * std::min(a.area, b.area))) continue;
-        if (r.pairs++ == 0)
-          r.first = polygon_centroid(scene.face_vertices(std::min(a.face, b.face)));
-        r.area += shared;
-      }
+    fl.area = area(fl.p);
+    if (fl.area > 0) pl.flats.push_back(std::move(fl));
+  }
+  return pl;
+}
+
+// Calls visit(a, b) for each pair of a plane's faces whose boxes overlap and that come
+// from different input polygons, in a sweep sorted by the boxes' lower x (which
+// reorders `flats`), at most kMaxOverlapChecks candidates.
+template <class Visit>
+void for_each_candidate(std::vector<Flat>& flats, std::span<const std::uint32_t> source,
+                        Visit visit) {
+  std::sort(flats.begin(), flats.end(), [](const Flat& a, const Flat& b) {
+    return a.lo.x() != b.lo.x() ? a.lo.x() < b.lo.x() : a.face < b.face;
+  });
+  std::size_t checks = 0;
+  for (std::size_t i = 0; i < flats.size() && checks < kMaxOverlapChecks; ++i) {
+    poll_interrupt(i);
+    for (std::size_t j = i + 1; j < flats.size() && flats[j].lo.x() < flats[i].hi.x(); ++j) {
+      if (++checks >= kMaxOverlapChecks) break;
+      poll_interrupt(checks);
+      const Flat &a = flats[i], &b = flats[j];
+      if (b.lo.y() >= a.hi.y() || a.lo.y() >= b.hi.y()) continue;
+      if (!source.empty() && source[a.face] == source[b.face]) continue;
+      visit(a, b);
     }
   }
+}
+
+// Whether two faces share enough area to count as overlapping.
+bool shares_area(double shared, double a, double b) { return shared > 1e-6 * std::min(a, b); }
+
+// A piece too thin or too small to keep: area below 1e-12 of its squared edge lengths
+// (the builder's sliver test) or below 1e-9 of its face's.
+bool negligible(const std::vector<Point>& p, double face_area) {
+  double edges2 = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) edges2 += (p[(i + 1) % p.size()] - p[i]).squaredNorm();
+  const double a = area(p);
+  return !(a > 1e-12 * edges2) || !(a > 1e-9 * face_area);
+}
+
+}  // namespace
+
+CoplanarOverlaps find_coplanar_overlaps(const Scene& scene, std::span<const std::uint32_t> source) {
+  CoplanarOverlaps r;
+  for (const std::vector<std::size_t>& group : plane_groups(scene)) {
+    Plane pl = make_plane(scene, group);
+    for_each_candidate(pl.flats, source, [&](const Flat& a, const Flat& b) {
+      const double shared = area(clip(a.p, b.p));
+      if (!shares_area(shared, a.area, b.area)) return;
+      if (r.pairs++ == 0) r.first = polygon_centroid(scene.face_vertices(std::min(a.face, b.face)));
+      r.area += shared;
+    });
+  }
+  return r;
+}
+
+CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& source) {
+  CoplanarCuts r;
+  source.resize(scene.faces.size());
+  // Per cut face, its remains as convex pieces in its plane's frame.
+  std::map<std::size_t, std::pair<Frame, std::vector<std::vector<Point>>>> remains;
+  for (const std::vector<std::size_t>& group : plane_groups(scene)) {
+    Plane pl = make_plane(scene, group);
+    // Each later face's earlier neighbours that share area with it, then cut in input
+    // order.
+    std::map<std::size_t, std::vector<const Flat*>> cutters;
+    for_each_candidate(pl.flats, source, [&](const Flat& a, const Flat& b) {
+      if (!shares_area(area(clip(a.p, b.p)), a.area, b.area)) return;
+      const bool a_first = a.face < b.face;
+      cutters[a_first ? b.face : a.face].push_back(a_first ? &a : &b);
+    });
+    if (cutters.empty()) continue;
+    std::map<std::size_t, const Flat*> flat_of;
+    for (const Flat& f : pl.flats) flat_of[f.face] = &f;
+    for (auto& [face, earlier] : cutters) {
+      std::sort(earlier.begin(), earlier.end(),
+                [](const Flat* x, const Flat* y) { return x->face < y->face; });
+      const Flat& b = *flat_of[face];
+      std::vector<std::vector<Point>> pieces = {b.p};
+      bool cut = false, too_many = false;
+      for (const Flat* a : earlier) {
+        poll_interrupt(a->face);
+        std::vector<std::vector<Point>> next;
+        for (std::vector<Point>& piece : pieces) {
+          if (!shares_area(area(clip(piece, a->p)), a->area, b.area)) {
+            next.push_back(std::move(piece));
+            continue;
+          }
+          cut = true;
+          for (std::vector<Point>& rest : subtract(std::move(piece), a->p))
+            if (!negligible(rest, b.area)) next.push_back(std::move(rest));
+        }
+        pieces = std::move(next);
+        if (pieces.size() > kMaxOverlapPieces) {
+          too_many = true;
+          break;
+        }
+      }
+      if (!cut || too_many) continue;
+      double left = 0;
+      for (const auto& piece : pieces) left += area(piece);
+      if (r.faces_cut++ == 0) r.first = polygon_centroid(scene.face_vertices(face));
+      r.area += std::max(0.0, b.area - left);
+      if (pieces.empty()) ++r.faces_dropped;
+      r.pieces += pieces.size();
+      remains[face] = {pl.frame, std::move(pieces)};
+    }
+  }
+  if (remains.empty()) return r;
+
+  // The faces again, in their order, each cut face replaced by its pieces; a piece's
+  // corner that is one of its face's own corners keeps that vertex.
+  std::vector<Face> faces;
+  std::vector<std::uint32_t> indices, sources;
+  faces.reserve(scene.faces.size() + r.pieces);
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const Face& old = scene.faces[f];
+    const auto it = remains.find(f);
+    if (it == remains.end()) {
+      Face kept = old;
+      kept.first = static_cast<std::uint32_t>(indices.size());
+      indices.insert(indices.end(), scene.indices.begin() + old.first,
+                     scene.indices.begin() + old.first + old.count);
+      faces.push_back(kept);
+      sources.push_back(source[f]);
+      continue;
+    }
+    const Frame& pl = it->second.first;
+    const Vec3 n = scene.face_normal(f);
+    const double d = n.dot(scene.vertices[scene.indices[old.first]]);
+    for (const std::vector<Point>& piece : it->second.second) {
+      Face nf = old;
+      nf.first = static_cast<std::uint32_t>(indices.size());
+      nf.count = static_cast<std::uint32_t>(piece.size());
+      for (const Point& x : piece) {
+        std::uint32_t id = UINT32_MAX;
+        for (std::uint32_t k = 0; k < old.count && id == UINT32_MAX; ++k) {
+          const std::uint32_t vi = scene.indices[old.first + k];
+          const Vec3& c = scene.vertices[vi];
+          if (c.dot(pl.u) == x.x() && c.dot(pl.v) == x.y()) id = vi;
+        }
+        if (id == UINT32_MAX) {
+          // In the face's own plane: along the plane's normal to n . p = d.
+          const Vec3 inplane = x.x() * pl.u + x.y() * pl.v;
+          const Vec3 p = inplane + ((d - n.dot(inplane)) / n.dot(pl.n)) * pl.n;
+          id = static_cast<std::uint32_t>(scene.vertices.size());
+          scene.vertices.push_back(p);
+        }
+        indices.push_back(id);
+      }
+      faces.push_back(nf);
+      sources.push_back(source[f]);
+    }
+  }
+  scene.faces = std::move(faces);
+  scene.indices = std::move(indices);
+  source = std::move(sources);
   return r;
 }
 

@@ -277,9 +277,25 @@ Scene SceneBuilder::finish(const std::string& file) {
     warn(fmt::format("{} non-planar or non-convex polygon(s) triangulated", triangulated_faces_));
   if (scene_.faces.empty())
     throw InputError(file, 0, "the scene has no polygon with positive area");
-  // Reported when the shared area is more than 1e-3 of the scene's: builtin:office and
-  // builtin:lab hold a few hundred small overlaps of boxes (0.1 and 0.2 units² of 720 and
-  // 1,690), below that.
+  // What a later face shares with an earlier one in its plane is cut out of it;
+  // reported when the area is more than 1e-3 of the scene's: builtin:office and
+  // builtin:lab hold a few hundred small overlaps of boxes (0.1 and 0.2 units² of 720
+  // and 1,690), below that.
+  if (const CoplanarCuts c = remove_coplanar_overlaps(scene_, source_);
+      c.faces_cut > 0 && c.area > kCoplanarOverlapShare * scene_.total_area())
+    warn(fmt::format(
+        "{} face(s) lay in one plane with an earlier face, facing the same way, and "
+        "overlapped it ({:.3g} units² in common; the first near ({:.4g}, {:.4g}, {:.4g})): "
+        "the shared area is solved once, as part of the earlier face{}{}",
+        c.faces_cut, c.area, c.first.x(), c.first.y(), c.first.z(),
+        c.faces_dropped > 0
+            ? fmt::format("; {} lay wholly under earlier faces and were dropped", c.faces_dropped)
+            : std::string(),
+        c.pieces > 0
+            ? fmt::format("; the rest of the others is kept as {} convex piece(s)", c.pieces)
+            : std::string()));
+  // What could not be cut (a face that would need more than kMaxOverlapPieces pieces,
+  // or a plane too crowded for the bounded search).
   if (const CoplanarOverlaps o = find_coplanar_overlaps(scene_, source_);
       o.pairs > 0 && o.area > kCoplanarOverlapShare * scene_.total_area())
     warn(
