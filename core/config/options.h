@@ -19,7 +19,7 @@
 // | placement           | MemBind         | first-touch  | core/parallel/topology.h                |
 // | pool_order          | PoolOrder       | submitted    | schedulers/scheduler.h                  |
 // | seed                | uint64          | 1            | mixed into every per-link random number |
-// | gather_tolerance    | double          | 1e-6         | propagation's stop (core/solver/solver) |
+// | gather_tolerance    | double          | 1e-5         | propagation's stop (core/solver/solver) |
 // | max_gather_sweeps   | int             | 100000       | sweeps per iteration, at most           |
 // | cluster_model       | ClusterModel    | directional  | core/transport/cluster_model.h          |
 // | cluster_receiver    | ClusterReceiver | cosine       | core/config/modes.h                     |
@@ -83,7 +83,9 @@ struct SolverOptions {
   MemBind placement = MemBind::FirstTouch;
   PoolOrder pool_order = PoolOrder::Submitted;
   std::uint64_t seed = 1;
-  double gather_tolerance = 1e-6;
+  // 1e-6 took 3 more sweeps on the lab and 2 on the cabin (of 11 and 16) and moved
+  // their probes by at most 0.001 %.
+  double gather_tolerance = 1e-5;
   int max_gather_sweeps = 100000;
   ClusterModel cluster_model = ClusterModel::Directional;
   ClusterReceiver cluster_receiver = ClusterReceiver::Cosine;
