@@ -1,4 +1,5 @@
 #include "core/scene/scene_builder.h"
+#include "core/scene/coplanar_overlap.h"
 #include "core/scene/self_overlap.h"
 
 #include <gtest/gtest.h>
@@ -396,6 +397,25 @@ TEST(SceneBuilder, CutsCoplanarFacesThatOverlapOutOfTheLaterFace) {
              {{0, 0, 5}, {0.1, 0, 5}, {0.1, 0.1, 5}, {0, 0.1, 5}}});
   EXPECT_EQ(warning(s, cut), "");
   EXPECT_NEAR(s.total_area(), 1e4 + 0.01, 1e-9);
+}
+
+// Called without the input polygons, every face counts as its own: a copy of a face
+// appended to a finished scene is cut away.
+TEST(SceneBuilder, CutsOverlapsWithoutInputPolygons) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  b.add_polygon(std::vector<Vec3>{{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}}, m, kHere);
+  b.add_polygon(std::vector<Vec3>{{0, 0, 1}, {0, 2, 1}, {2, 2, 1}, {2, 0, 1}}, m, kHere);
+  Scene s = b.finish("t.obj");
+  Face copy = s.faces[0];
+  s.faces.push_back(copy);
+  std::vector<std::uint32_t> source;
+  const CoplanarCuts c = remove_coplanar_overlaps(s, source);
+  EXPECT_EQ(c.faces_cut, 1u);
+  EXPECT_EQ(c.faces_dropped, 1u);
+  EXPECT_NEAR(c.area, 4.0, 1e-12);
+  EXPECT_EQ(s.faces.size(), 2u);
+  EXPECT_EQ(source.size(), 2u);
 }
 
 TEST(SceneBuilder, RejectsBadVerticesWithFileAndLine) {

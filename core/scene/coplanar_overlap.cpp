@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <span>
 #include <tuple>
 #include <vector>
@@ -175,7 +176,10 @@ CoplanarOverlaps find_coplanar_overlaps(const Scene& scene, std::span<const std:
 
 CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& source) {
   CoplanarCuts r;
-  source.resize(scene.faces.size());
+  if (source.size() != scene.faces.size()) {  // not given: every face its own polygon
+    source.resize(scene.faces.size());
+    std::iota(source.begin(), source.end(), std::uint32_t{0});
+  }
   // Per cut face, its remains as convex pieces in its plane's frame.
   std::map<std::size_t, std::pair<Frame, std::vector<std::vector<Point>>>> remains;
   for (const std::vector<std::size_t>& group : plane_groups(scene)) {

@@ -51,8 +51,10 @@ inline constexpr std::size_t kMaxOverlapPieces = 256;
 /// shared area, its material and emission, and the later face's remains become convex
 /// pieces in its place (its material, its input polygon in `source`), so each part of
 /// a surface is solved once. Pieces of a sliver's proportions (area below 1e-12 of the
-/// squared edge lengths, or below 1e-9 of the face's area) are dropped. `source` is
-/// resized with the faces; the order of the faces is kept, pieces where their face was.
+/// squared edge lengths, or below 1e-9 of the face's area) are dropped. `source` gives
+/// each face's input polygon (faces of one polygon are not compared; when its size is
+/// not the faces', every face is taken as its own polygon) and is rewritten for the new
+/// faces; the order of the faces is kept, pieces where their face was.
 CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& source);
 
 }  // namespace hrad
