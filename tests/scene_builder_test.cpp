@@ -399,6 +399,30 @@ TEST(SceneBuilder, CutsCoplanarFacesThatOverlapOutOfTheLaterFace) {
   EXPECT_NEAR(s.total_area(), 1e4 + 0.01, 1e-9);
 }
 
+// A face that would need more than kMaxOverlapPieces pieces is left whole, and each
+// pair it makes with an earlier face is reported, from the same pass that cuts.
+TEST(SceneBuilder, ReportsOverlapsItCannotCut) {
+  SceneBuilder b("t", "t");
+  const auto m = b.add_material(grey(0.5, 1), kHere);
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      const double x = i / 12.0 + 0.02, y = j / 12.0 + 0.02;
+      b.add_polygon(
+          std::vector<Vec3>{{x, y, 0}, {x + 0.04, y, 0}, {x + 0.04, y + 0.04, 0}, {x, y + 0.04, 0}},
+          m, kHere);
+    }
+  b.add_polygon(std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, m, kHere);
+  const Scene s = b.finish("t.obj");
+  EXPECT_EQ(s.faces.size(), 145u);
+  EXPECT_NEAR(s.total_area(), 1.0 + 144 * 0.0016, 1e-9);
+  bool reported = false;
+  for (const std::string& w : s.warnings)
+    if (w.find("144 pair(s) of faces lie in one plane") != std::string::npos &&
+        w.find("(0.23 units² in common") != std::string::npos)
+      reported = true;
+  EXPECT_TRUE(reported) << (s.warnings.empty() ? "" : s.warnings.front());
+}
+
 // Called without the input polygons, every face counts as its own: a copy of a face
 // appended to a finished scene is cut away.
 TEST(SceneBuilder, CutsOverlapsWithoutInputPolygons) {

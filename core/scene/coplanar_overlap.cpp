@@ -160,20 +160,6 @@ bool negligible(const std::vector<Point>& p, double face_area) {
 
 }  // namespace
 
-CoplanarOverlaps find_coplanar_overlaps(const Scene& scene, std::span<const std::uint32_t> source) {
-  CoplanarOverlaps r;
-  for (const std::vector<std::size_t>& group : plane_groups(scene)) {
-    Plane pl = make_plane(scene, group);
-    for_each_candidate(pl.flats, source, [&](const Flat& a, const Flat& b) {
-      const double shared = area(clip(a.p, b.p));
-      if (!shares_area(shared, a.area, b.area)) return;
-      if (r.pairs++ == 0) r.first = polygon_centroid(scene.face_vertices(std::min(a.face, b.face)));
-      r.area += shared;
-    });
-  }
-  return r;
-}
-
 CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& source) {
   CoplanarCuts r;
   if (source.size() != scene.faces.size()) {  // not given: every face its own polygon
@@ -186,22 +172,24 @@ CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& 
     Plane pl = make_plane(scene, group);
     // Each later face's earlier neighbours that share area with it, then cut in input
     // order.
-    std::map<std::size_t, std::vector<const Flat*>> cutters;
+    // (With the area each shares with it, for the report of what is not cut.)
+    std::map<std::size_t, std::vector<std::pair<const Flat*, double>>> cutters;
     for_each_candidate(pl.flats, source, [&](const Flat& a, const Flat& b) {
-      if (!shares_area(area(clip(a.p, b.p)), a.area, b.area)) return;
+      const double shared = area(clip(a.p, b.p));
+      if (!shares_area(shared, a.area, b.area)) return;
       const bool a_first = a.face < b.face;
-      cutters[a_first ? b.face : a.face].push_back(a_first ? &a : &b);
+      cutters[a_first ? b.face : a.face].emplace_back(a_first ? &a : &b, shared);
     });
     if (cutters.empty()) continue;
     std::map<std::size_t, const Flat*> flat_of;
     for (const Flat& f : pl.flats) flat_of[f.face] = &f;
     for (auto& [face, earlier] : cutters) {
       std::sort(earlier.begin(), earlier.end(),
-                [](const Flat* x, const Flat* y) { return x->face < y->face; });
+                [](const auto& x, const auto& y) { return x.first->face < y.first->face; });
       const Flat& b = *flat_of[face];
       std::vector<std::vector<Point>> pieces = {b.p};
       bool cut = false, too_many = false;
-      for (const Flat* a : earlier) {
+      for (const auto& [a, shared] : earlier) {
         poll_interrupt(a->face);
         std::vector<std::vector<Point>> next;
         for (std::vector<Point>& piece : pieces) {
@@ -219,7 +207,14 @@ CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& 
           break;
         }
       }
-      if (!cut || too_many) continue;
+      if (too_many) {  // left whole: each pair it makes with an earlier face is reported
+        for (const auto& [a, shared] : earlier) {
+          if (r.left_pairs++ == 0) r.left_first = polygon_centroid(scene.face_vertices(a->face));
+          r.left_area += shared;
+        }
+        continue;
+      }
+      if (!cut) continue;
       double left = 0;
       for (const auto& piece : pieces) left += area(piece);
       if (r.faces_cut++ == 0) r.first = polygon_centroid(scene.face_vertices(face));

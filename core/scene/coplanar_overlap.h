@@ -16,22 +16,13 @@
 
 namespace hrad {
 
-struct CoplanarOverlaps {
-  std::size_t pairs = 0;      ///< pairs of faces that share area
-  double area = 0;            ///< the area they share, summed over the pairs
-  Vec3 first = Vec3::Zero();  ///< the centroid of the first pair's first face
-};
-
-/// Pairs of faces in one plane (normals within 1e-6, offsets within 1e-7 of the scene's
-/// diagonal), facing the same way, sharing more than 1e-6 of the smaller one's area.
-/// Faces are convex (SceneBuilder's invariant). `source`, when not empty, gives each
-/// face's input polygon: the triangles of one triangulated polygon are not compared.
-/// Sorted sweeps per plane, each stopped after kMaxOverlapChecks candidate pairs (a
-/// polygon of 20,000 corners triangulated into long thin triangles made the sweep
-/// quadratic: 3.4 s), so the test is bounded and may miss overlaps in such a plane.
+/// Faces in one plane: normals within 1e-6, offsets within 1e-7 of the scene's
+/// diagonal. Overlapping: sharing more than 1e-6 of the smaller one's area. Candidates
+/// come from sorted sweeps per plane, each stopped after kMaxOverlapChecks candidate
+/// pairs (a polygon of 20,000 corners triangulated into long thin triangles made the
+/// sweep quadratic: 3.4 s), so the search is bounded and may miss overlaps in such a
+/// plane.
 inline constexpr std::size_t kMaxOverlapChecks = 20'000'000;
-CoplanarOverlaps find_coplanar_overlaps(const Scene& scene,
-                                        std::span<const std::uint32_t> source = {});
 
 /// What remove_coplanar_overlaps did.
 struct CoplanarCuts {
@@ -40,14 +31,19 @@ struct CoplanarCuts {
   std::size_t pieces = 0;         ///< convex faces that replaced the cut ones' remains
   double area = 0;                ///< the area taken out of the later faces
   Vec3 first = Vec3::Zero();      ///< the centroid of the first face cut
+  /// Pairs left overlapping (a face that would need more than kMaxOverlapPieces pieces
+  /// is left whole), the area they share, and the first pair's earlier face's centroid.
+  std::size_t left_pairs = 0;
+  double left_area = 0;
+  Vec3 left_first = Vec3::Zero();
 };
 
 /// Most convex pieces one face may be cut into; a face that would need more is left
-/// whole (and reported by find_coplanar_overlaps).
+/// whole (and counted in CoplanarCuts::left_pairs).
 inline constexpr std::size_t kMaxOverlapPieces = 256;
 
 /// Cuts out of every face what earlier faces (in input order) in its plane, facing the
-/// same way, cover, by the tests of find_coplanar_overlaps: the earlier face keeps the
+/// same way, cover (the tests of kMaxOverlapChecks' comment): the earlier face keeps the
 /// shared area, its material and emission, and the later face's remains become convex
 /// pieces in its place (its material, its input polygon in `source`), so each part of
 /// a surface is solved once. Pieces of a sliver's proportions (area below 1e-12 of the

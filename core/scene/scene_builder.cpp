@@ -281,8 +281,8 @@ Scene SceneBuilder::finish(const std::string& file) {
   // reported when the area is more than 1e-3 of the scene's: builtin:office and
   // builtin:lab hold a few hundred small overlaps of boxes (0.1 and 0.2 units² of 720
   // and 1,690), below that.
-  if (const CoplanarCuts c = remove_coplanar_overlaps(scene_, source_);
-      c.faces_cut > 0 && c.area > kCoplanarOverlapShare * scene_.total_area())
+  const CoplanarCuts c = remove_coplanar_overlaps(scene_, source_);
+  if (c.faces_cut > 0 && c.area > kCoplanarOverlapShare * scene_.total_area())
     warn(fmt::format(
         "{} face(s) lay in one plane with an earlier face, facing the same way, and "
         "overlapped it ({:.3g} units² in common; the first near ({:.4g}, {:.4g}, {:.4g})): "
@@ -294,16 +294,15 @@ Scene SceneBuilder::finish(const std::string& file) {
         c.pieces > 0
             ? fmt::format("; the rest of the others is kept as {} convex piece(s)", c.pieces)
             : std::string()));
-  // What could not be cut (a face that would need more than kMaxOverlapPieces pieces,
-  // or a plane too crowded for the bounded search).
-  if (const CoplanarOverlaps o = find_coplanar_overlaps(scene_, source_);
-      o.pairs > 0 && o.area > kCoplanarOverlapShare * scene_.total_area())
-    warn(
-        fmt::format("{} pair(s) of faces lie in one plane, face the same way and overlap ({:.3g} "
-                    "units² in common; the first near ({:.4g}, {:.4g}, {:.4g})): each is solved "
-                    "as its own surface, so the area they share reflects and emits twice; give "
-                    "each surface once",
-                    o.pairs, o.area, o.first.x(), o.first.y(), o.first.z()));
+  // What could not be cut (a face that would need more than kMaxOverlapPieces pieces),
+  // from the same pass.
+  if (c.left_pairs > 0 && c.left_area > kCoplanarOverlapShare * scene_.total_area())
+    warn(fmt::format(
+        "{} pair(s) of faces lie in one plane, face the same way and overlap ({:.3g} "
+        "units² in common; the first near ({:.4g}, {:.4g}, {:.4g})): each is solved "
+        "as its own surface, so the area they share reflects and emits twice; give "
+        "each surface once",
+        c.left_pairs, c.left_area, c.left_first.x(), c.left_first.y(), c.left_first.z()));
   if (scene_.emitter_count() == 0) warn(kNoEmitterWarning);
   return std::move(scene_);
 }
