@@ -297,10 +297,13 @@ QUICK_MARK = "quick run (--quick): a smoke test of the pipeline, not a result"
 
 def _wrap(text, max_px, renderer):
     """Re-wraps a Text artist's lines (kept where they break already) until it is at
-    most max_px wide, or its words allow no narrower."""
+    most max_px long (along its lines: a y label's height), or its words allow no
+    shorter."""
     s = text.get_text()
+    upright = text.get_rotation() % 180 == 90
     for _ in range(4):
-        width = text.get_window_extent(renderer).width
+        box = text.get_window_extent(renderer)
+        width = box.height if upright else box.width
         if not s or width <= max_px:
             return
         longest = max(len(line) for line in s.split("\n"))
