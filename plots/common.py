@@ -331,11 +331,17 @@ def _fit_axes_text(fig, renderer, panel_w, panel_h):
 
 def _fit_legend(make, most, width, renderer, dpi):
     """The legend make(ncol) with the most columns (up to `most`) that fit in `width`
-    pixels as they are; when not even one column does, one column with its labels
-    wrapped to that width."""
+    pixels as they are, or fewer where they take as many rows (four entries in two
+    columns of two, not three over one); when not even one column does, one column with
+    its labels wrapped to that width."""
     for n in range(most, 0, -1):
         leg = make(n)
         if leg.get_window_extent(renderer).width <= width:
+            count = len(leg.get_texts())
+            even = -(-count // -(-count // n))  # the fewest columns for as many rows
+            if even < n:
+                leg.remove()
+                leg = make(even)
             return leg
         leg.remove()
     leg = make(1)
