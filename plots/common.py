@@ -5,7 +5,10 @@ iterations.csv, manifest.json; see docs/results.md) and writes NAME.pdf, NAME.sv
 NAME.png (300 dpi) into that folder (or --out-dir), sized for a paper:
   --size page    7 inches wide (the default): panels side by side, up to three a row;
   --size column  3.3 inches wide (one column of a two-column paper): one panel a row,
-                 two when a figure has more than three.
+                 two when a figure has more than three; rows shorter than a lone
+                 panel's, an axis label that a whole grid column (row) of panels has
+                 drawn once, and legends that are the same under every panel drawn once
+                 above them, so that six panels stay under 7.5 inches.
 Text is 8-9 points at either size. The caption (the machine and scenes from
 manifest.json, the hrad revision that made the data, and the commands that regenerate
 the data and redraw the figure) goes to NAME.caption.txt, for the paper's own caption;
@@ -29,6 +32,10 @@ import textwrap
 
 # Figure widths in inches, by --size.
 WIDTHS = {"page": 7.0, "column": 3.3}
+# A row's height on a column when a figure has more than one: this share of the panel's
+# width, but at least the inches given (a third of a column's 9 usable inches or less,
+# less what goes above and under the panels).
+COLUMN_ROW = (0.6, 1.75)
 # The options of parse_args() that shape every figure of the run.
 OPTIONS = {"size": "page", "caption_in_image": False}
 # The repository root (commands in captions are written relative to it).
@@ -236,17 +243,25 @@ def grid(nrows, ncols):
 
 def figure(nrows=1, ncols=1, height=None, extra_height=0.0):
     """A figure of nrows x ncols panels (laid out again for a column, see grid()) as
-    wide as --size says; `height` inches a row [default: from the panel's width],
-    plus `extra_height` inches (for legends below the panels). Panels are in reading
-    order, so a script can index them alike at either size."""
+    wide as --size says; `height` inches a row [default: from the panel's width; on a
+    column, rows of a figure with several are shorter, see COLUMN_ROW], plus
+    `extra_height` inches (for legends below the panels). Panels are in reading order,
+    so a script can index them alike at either size; a grid cell left over (an odd
+    count two a row) is left empty."""
+    n = nrows * ncols
     nrows, ncols = grid(nrows, ncols)
     width = WIDTHS[OPTIONS["size"]]
     panel = width / ncols
-    if height is None:
+    if height is None and OPTIONS["size"] == "column" and nrows > 1:
+        height = max(COLUMN_ROW[0] * panel, COLUMN_ROW[1])
+    elif height is None:
         height = min(max(0.72 * panel, 1.9), 2.9)
     fig, axes = _pyplot().subplots(nrows, ncols, figsize=(width, height * nrows + extra_height), dpi=300,
                                    squeeze=False)
-    return fig, [ax for row in axes for ax in row]
+    axes = [ax for row in axes for ax in row]
+    for ax in axes[n:]:
+        fig.delaxes(ax)
+    return fig, axes[:n]
 
 
 def errorbar(ax, xs, stats, **kw):
@@ -318,6 +333,41 @@ def _wrap(text, max_px, renderer):
 
 def _inches(artist, renderer, fig):
     return artist.get_window_extent(renderer).height / fig.dpi
+
+
+def _share_axis_labels(fig):
+    """An x label that every panel of a grid column has is kept under the lowest one
+    only, a y label that every panel of a grid row has beside the leftmost one only (the
+    panels keep their own ticks). A figure with two axes in one cell is left alone."""
+    cells = [(ax, ax.get_subplotspec()) for ax in fig.axes]
+    cells = [(ax, s.rowspan.start, s.colspan.start) for ax, s in cells if s is not None]
+    if len({(r, c) for _, r, c in cells}) < len(cells):
+        return
+    shared = []
+    for ax, r, c in cells:
+        column = [(a, rr) for a, rr, cc in cells if cc == c]
+        row = [(a, cc) for a, rr, cc in cells if rr == r]
+        if r < max(rr for _, rr in column) and len({a.get_xlabel() for a, _ in column}) == 1:
+            shared.append((ax, "xlabel"))
+        if c > min(cc for _, cc in row) and len({a.get_ylabel() for a, _ in row}) == 1:
+            shared.append((ax, "ylabel"))
+    for ax, label in shared:
+        ax.set(**{label: ""})
+
+
+def _merge_legends_below(fig):
+    """legend_below() legends with the same labels under every panel that has one become
+    one legend above the panels (as legend_above())."""
+    legs = [ax.get_legend() for ax in fig.axes]
+    legs = [leg for leg in legs if leg is not None and hasattr(leg, "_hrad_below")]
+    if len(legs) < 2 or any(leg._hrad_below["labels"] != legs[0]._hrad_below["labels"]
+                            for leg in legs):
+        return
+    spec = legs[0]._hrad_below
+    for leg in legs:
+        leg.remove()
+    legend_above(fig, handles=spec["handles"], labels=spec["labels"], ncol=spec["most"],
+                 **spec["kw"])
 
 
 def _fit_axes_text(fig, renderer, panel_w, panel_h):
@@ -413,16 +463,21 @@ def _thin_tick_labels(fig, renderer):
 
 def save(fig, out_dir, name, text, top_inches=0.0):
     """Writes NAME.pdf, NAME.svg, NAME.png (300 dpi) and the caption `text` to
-    NAME.caption.txt (printed too). Text is wrapped to the panels' size first; then the
-    figure grows (its width stays) by what is drawn outside the panels: legend_below()
-    legends, figure legends (fig.legend(loc="upper center"), stacked above the panels),
-    QUICK_MARK above them when the caption is of --quick runs, `top_inches` more, and
-    with --caption-in-image the caption under the panels."""
+    NAME.caption.txt (printed too). On a column, axis labels and legend_below() legends
+    that repeat are drawn once (_share_axis_labels(), _merge_legends_below()). Text is
+    wrapped to the panels' size first; then the figure grows (its width stays) by what
+    is drawn outside the panels: legend_below() legends, figure legends
+    (fig.legend(loc="upper center"), stacked above the panels), QUICK_MARK above them
+    when the caption is of --quick runs, `top_inches` more, and with --caption-in-image
+    the caption under the panels."""
     renderer = fig.canvas.get_renderer()
     width_px = fig.bbox.width
     pad = 0.05
     nrows, ncols = fig.axes[0].get_subplotspec().get_gridspec().get_geometry()
     panel_w, panel_h = width_px / ncols, fig.bbox.height / nrows
+    if OPTIONS["size"] == "column":  # room is short: what repeats is drawn once
+        _share_axis_labels(fig)
+        _merge_legends_below(fig)
     _fit_axes_text(fig, renderer, panel_w, panel_h)
     below = _fit_legends_below(fig, renderer, 0.95 * (width_px if ncols == 1 else panel_w))
     above = []  # (artist, inches) stacked from the top
