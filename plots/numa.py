@@ -7,7 +7,8 @@ count of the first scene. Right: the local-access ratio (fraction of memory acce
 served by the refiner's own NUMA node: tasks whose receiver lives there), from the
 local_access_ratio column of runs.csv; a panel without data says so instead of drawing zeros,
 and on a machine with one NUMA node (manifest.json's topology) a note says why every
-ratio is 1.0. Legends sit above the bars, in headroom left for them.
+ratio is 1.0. One legend (the schedulers) above both panels; the pairs' labels are
+slanted so that neighbours do not run into each other.
 Usage: numa.py RESULT_DIR [--out-dir DIR] [--size page|column] [--caption-in-image]
 """
 import common
@@ -43,12 +44,10 @@ for panel, column in ((a, "refine_wall_s"), (b, "local_access_ratio")):
                 err[1].append(hi - m)
         panel.bar(xs, means, width, yerr=err, capsize=2, label=s)
     panel.set_xticks(range(len(pairs)))
-    panel.set_xticklabels([f"{p}\n{q}" for p, q in pairs], fontsize=8)
+    panel.set_xticklabels([f"{p}\n{q}" for p, q in pairs], fontsize=8, rotation=45,
+                          ha="right", rotation_mode="anchor")
     panel.set_xlabel("thread pinning / memory placement")
-    # Headroom above the tallest bar for the legend, so that it covers no bar.
-    panel.set_ylim(0, 1.3 * top if top > 0 else 1)
-    panel.legend(title="scheduler", loc="upper center",
-                 ncol=max(1, len(schedulers)), frameon=False)
+    panel.set_ylim(0, 1.05 * top if top > 0 else 1)
     panel.grid(True, axis="y", alpha=0.3)
     if column == "local_access_ratio" and nodes == 1:
         panel.text(0.5, 0.5, "this machine has one NUMA node: every task's receiver is on\n"
@@ -60,5 +59,6 @@ a.set_ylabel(f"refinement wall time (s), {threads} threads")
 a.set_title(common.scene_label(scene))
 b.set_ylabel("local-access ratio (fraction of accesses)")
 b.set_title("memory locality")
+common.legend_above(fig, a, title="scheduler")
 common.save(fig, args.out_dir, "numa",
             common.caption(manifest, rows, "NUMA pinning and placement"))
