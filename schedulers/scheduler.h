@@ -35,10 +35,12 @@ struct Task {
   Element* source = nullptr;
   float form_factor = 0;  ///< cached from the link when `evaluated`
   float visibility = 1;
-  float priority = 0;      ///< oracle error estimate (largest first for `priority`)
-  bool evaluated = false;  ///< true for links reloaded from the previous iteration
-  std::uint64_t id = 0;    ///< trace id (see core/parallel/trace.h); set by the refinement driver
+  float priority = 0;           ///< oracle error estimate (largest first for `priority`)
+  bool evaluated = false;       ///< true for links reloaded from the previous iteration
+  std::uint16_t decided_q = 0;  ///< reloaded links: Link::decided_q (in what was padding)
+  std::uint64_t id = 0;  ///< trace id (see core/parallel/trace.h); set by the refinement driver
 };
+static_assert(sizeof(Task) == 40, "tasks are copied in and out of every pool");
 
 /// How a central pool orders each submitted batch before it enters the pool
 /// (schedulers/pool_order.h): as submitted, by receiver address, or by the receiver's

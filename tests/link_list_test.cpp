@@ -33,6 +33,37 @@ std::vector<std::uint32_t> indices(const LinkList& list) {
   return out;
 }
 
+// A link's visibility is kept in 16 bits: 0 and 1 exactly (the oracles tell hidden,
+// partly and wholly visible links apart by them), anything else within half a step
+// (1/131070); the visibility an independent decision was made on is kept beside it, and
+// a link that has none says so.
+TEST(Link, KeepsVisibilityAndTheDecisionsOwnIn16BitsEach) {
+  static_assert(sizeof(Link) == 16);
+  const Link plain{nullptr, 0.5f, 0.3};
+  EXPECT_FALSE(plain.has_decided());
+  EXPECT_NEAR(plain.visibility(), 0.3, 0.5 / Link::kOne);
+  EXPECT_NEAR(plain.transport(), 0.15, 0.5 / Link::kOne);
+  EXPECT_EQ(Link(nullptr, 1, 0.0).visibility(), 0.0);
+  EXPECT_EQ(Link(nullptr, 1, 1.0).visibility(), 1.0);
+  EXPECT_EQ(Link(nullptr, 1, 1e-6).visibility(), 0.0);
+  EXPECT_GT(Link(nullptr, 1, 1e-4).visibility(), 0.0);
+  EXPECT_LT(Link(nullptr, 1, 1 - 1e-4).visibility(), 1.0);
+  EXPECT_EQ(Link(nullptr, 1, std::nan("")).visibility(), 0.0);
+  EXPECT_EQ(Link(nullptr, 1, 2.0).visibility(), 1.0);
+  for (const double d : {0.0, 1e-3, 0.25, 0.7, 1.0}) {
+    const Link l{nullptr, 1, 0.5, d};
+    ASSERT_TRUE(l.has_decided()) << d;
+    EXPECT_NEAR(l.decided(), d, 0.5 / (Link::kOne - 1)) << d;
+    EXPECT_NEAR(l.visibility(), 0.5, 0.5 / Link::kOne) << d;
+  }
+  EXPECT_EQ(Link(nullptr, 1, 0.5, 0.0).decided(), 0.0);
+  EXPECT_EQ(Link(nullptr, 1, 0.5, 1.0).decided(), 1.0);
+  Link l{nullptr, 1, 0.5, 0.25};
+  l.set_visibility(0.75);
+  EXPECT_NEAR(l.visibility(), 0.75, 0.5 / Link::kOne);
+  EXPECT_NEAR(l.decided(), 0.25, 0.5 / (Link::kOne - 1));
+}
+
 TEST(LinkList, KeepsStoreOrderAcrossBatchesOfAnySize) {
   NodeArena arena(0, ArenaPlacement{});
   LinkList list;

@@ -173,7 +173,7 @@ TEST(PropagationCache, OnlyChangedLinksAreGatheredAgain) {
     }
     ASSERT_LT(surface, after.size());
     ASSERT_LT(cluster, after.size());
-    after[surface][1].visibility *= 0.5f;
+    after[surface][1].set_visibility(after[surface][1].visibility() * 0.5);
     after[cluster].pop_back();
 
     // The same links: every row kept.

@@ -29,13 +29,41 @@ struct Element;
 class NodeArena;
 
 /// A link r <- s, stored at the receiver r. 16 bytes.
+///
+/// The visibility is kept in 16 bits (steps of 1/65535, far below any estimate's noise;
+/// 0 and 1 exactly), which leaves room for the visibility the oracle decided on when
+/// that came from other rays than the link's own (decision_rays = independent, or a
+/// surface pair's shadow test: core/solver/refiner.h). A later iteration judges the
+/// link again on that value instead of casting those rays again.
 struct Link {
+  static constexpr std::uint16_t kOne = 0xFFFF;
   Element* source = nullptr;
-  float form_factor = 0;  ///< unoccluded F_rs, receiver-area normalised
-  float visibility = 1;   ///< fraction of unblocked rays in [0,1]
+  float form_factor = 0;              ///< unoccluded F_rs, receiver-area normalised
+  std::uint16_t visibility_q = kOne;  ///< fraction of unblocked rays, in 1/65535
+  std::uint16_t decided_q = 0;        ///< 0: none; else 1 + the decision's V in 1/65534
+
+  Link() = default;
+  /// `decided`: the visibility the oracle decided on, when not `visibility` (else < 0).
+  Link(Element* s, float f, double visibility, double decided = -1)
+      : source(s),
+        form_factor(f),
+        visibility_q(quantize(visibility, kOne)),
+        decided_q(decided < 0 ? std::uint16_t{0}
+                              : static_cast<std::uint16_t>(1 + quantize(decided, kOne - 1))) {}
+
+  [[nodiscard]] double visibility() const { return visibility_q * (1.0 / kOne); }
+  void set_visibility(double v) { visibility_q = quantize(v, kOne); }
+  [[nodiscard]] bool has_decided() const { return decided_q != 0; }
+  [[nodiscard]] double decided() const { return decided_value(decided_q); }
+  /// The visibility a nonzero `decided_q` holds.
+  static double decided_value(std::uint16_t q) { return (q - 1) * (1.0 / (kOne - 1)); }
   /// Irradiance at r due to s is transport() * B_s.
-  [[nodiscard]] double transport() const {
-    return static_cast<double>(form_factor) * static_cast<double>(visibility);
+  [[nodiscard]] double transport() const { return static_cast<double>(form_factor) * visibility(); }
+
+ private:
+  static std::uint16_t quantize(double v, std::uint16_t one) {
+    const double c = v > 0 ? (v < 1 ? v : 1.0) : 0.0;  // NaN gives 0
+    return static_cast<std::uint16_t>(c * one + 0.5);
   }
 };
 static_assert(sizeof(Link) == 16, "links must stay small: they dominate memory");

@@ -989,10 +989,9 @@ class GatherMatrix {
     std::uint64_t h = 0x6A09E667F3BCC909ull;
     for (const Link& l : e.links) {
       std::uint64_t values = 0;
-      static_assert(sizeof(l.form_factor) + sizeof(l.visibility) == sizeof(values));
-      std::memcpy(&values, &l.form_factor, sizeof(l.form_factor));
-      std::memcpy(reinterpret_cast<char*>(&values) + sizeof(l.form_factor), &l.visibility,
-                  sizeof(l.visibility));
+      static_assert(sizeof(l.form_factor) + sizeof(l.visibility_q) + sizeof(l.decided_q) ==
+                    sizeof(values));
+      std::memcpy(&values, &l.form_factor, sizeof(values));
       h += splitmix64_mix(splitmix64_mix(std::bit_cast<std::uintptr_t>(l.source)) ^ values);
     }
     return h;

@@ -146,8 +146,7 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
   chain.clear();
   for (const Element* a = &p; a != nullptr && !a->is_cluster(); a = a->parent)
     for (const Link& l : a->links)
-      chain.push_back(
-          {l.source, static_cast<double>(l.visibility), static_cast<double>(l.form_factor)});
+      chain.push_back({l.source, l.visibility(), static_cast<double>(l.form_factor)});
   if (chain.empty()) return 0;
   const Rest rest = cut_chain(chain, any_light);
   std::uint64_t rays = 0;

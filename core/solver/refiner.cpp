@@ -118,6 +118,9 @@ struct Refiner::Step {
   bool accept = false;
   bool split_r = false;
   double error = 0;
+  /// The visibility the oracle decided on, when the accepted link's own came from other
+  /// rays (stored with the link for the next iteration's judgement); else negative.
+  double decided = -1;
 };
 
 void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
@@ -138,7 +141,7 @@ void Refiner::process(const Task& task, Worker& w, std::vector<Task>& out) {
   if (step.drop) return;
   if (step.accept) {
     w.accepted.emplace_back(
-        &r, Link{&s, static_cast<float>(est.form_factor), static_cast<float>(est.visibility)});
+        &r, Link{&s, static_cast<float>(est.form_factor), est.visibility, step.decided});
     if (task.evaluated)
       ++w.c.links_kept;
     else
@@ -249,14 +252,20 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
   const bool surfaces = !r.is_cluster() && !s.is_cluster();
   if (depends && (limits_.independent_estimates || surfaces)) {
     // Decide on the first rays (a reloaded link may hold the second), and if the
-    // link is accepted, estimate its visibility from the second (RefineLimits).
+    // link is accepted, estimate its visibility from the second (RefineLimits). A
+    // link accepted this way last time holds both: the rays need not be cast again.
+    const bool both = task.evaluated && task.decided_q != 0;
     if (task.evaluated) {
       est.visibility =
-          transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 0, decision_rays);
+          both ? Link::decided_value(task.decided_q)
+               : transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 0, decision_rays);
       v = oracle_.judge(est, th);
     }
-    if (v.decision == Decision::Accept)
-      est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 1);
+    if (v.decision == Decision::Accept) {
+      st.decided = est.visibility;
+      est.visibility = both ? static_cast<double>(task.visibility)
+                            : transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped, 1);
+    }
   } else if (!known && v.decision == Decision::Accept) {
     est.visibility = transport_.visibility(r, s, w.c.rays_cast, w.c.rays_skipped);
     v = oracle_.judge(est, th);  // the same decision; its error may count the visibility
@@ -403,7 +412,8 @@ void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& el
       t->receiver = e;
       t->source = l.source;
       t->form_factor = l.form_factor;
-      t->visibility = l.visibility;
+      t->visibility = static_cast<float>(l.visibility());
+      t->decided_q = l.decided_q;
       t->priority = static_cast<float>(reflected_power_scale(*e, *l.source) * l.form_factor);
       t->evaluated = true;
       ++t;
