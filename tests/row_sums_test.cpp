@@ -182,10 +182,39 @@ TEST(RowSums, NormalizeCountsBackFacesAsUncovered) {
       if (!e->is_cluster() && e->face == 0) leaf = e;
     ASSERT_NE(leaf, nullptr);
     apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 256, 1, 1);
-    if (facing)
+    if (facing) {
       EXPECT_NEAR(1.0 - leaf->uncovered, polygon_to_polygon_ff(floor, down, 6), 0.125);
-    else
+      // Its standard error, from the spread over 64 points of 4 rays: near
+      // sqrt(u (1 - u) / 256) = 0.03 for independent rays (u about 0.36), and not 0.
+      EXPECT_GT(leaf->uncovered_se, 0.015f);
+      EXPECT_LT(leaf->uncovered_se, 0.06f);
+    } else {
       EXPECT_EQ(leaf->uncovered, 1.0f);
+      EXPECT_EQ(leaf->uncovered_se, 0.0f);  // every point agrees
+    }
+  }
+}
+
+// The rays' target is noisy where part of a leaf's hemisphere is open; normalize shrinks
+// a correction by d^2 / (d^2 + se^2), d the target less the row sum: a leaf with row
+// sum 0.8 and target 1 is scaled to 1 (gather_scale 1.25) when its uncovered share is
+// exact (se 0), to 0.8 + 0.2 / 2 = 0.9 when its standard error is 0.2, and to
+// 0.8 + 0.2 / 17 when it is 0.8. Compared to 1e-6 (float scales).
+TEST(RowSums, NormalizeShrinksACorrectionWithinTheTargetsNoise) {
+  const Scene scene = two_squares(1);
+  const RayScene rays = RayScene::from_scene(scene);
+  for (const double se : {0.0, 0.2, 0.8}) {
+    Hierarchy h(scene, 1);
+    std::vector<Element*> els = h.elements();
+    const std::vector<Element*> face = face_elements(els, 2);
+    link_each_other(h, face, 0.8f);
+    for (Element* e : face) {
+      e->uncovered = 0;
+      e->uncovered_se = static_cast<float>(se);
+    }
+    apply_row_sums(els, RowSumMode::Normalize, ClusterReceiver::Isotropic, h, rays, 16, 1, 1);
+    const double d = 1 - 0.8, target = 0.8 + d * d * d / (d * d + se * se);
+    for (const Element* e : face) EXPECT_NEAR(e->gather_scale * 0.8, target, 1e-6) << se;
   }
 }
 

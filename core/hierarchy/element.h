@@ -86,6 +86,8 @@ struct Element {
   /// (nothing, a back face, or the inside of a solid), estimated by rays (row_sums =
   /// normalize, core/solver/row_sums.cpp; negative until estimated).
   float uncovered = -1;
+  /// The standard error of `uncovered` (over its points; 0 when every point agrees).
+  float uncovered_se = 0;
 
   [[nodiscard]] bool is_cluster() const { return kind == ElementKind::Cluster; }
   [[nodiscard]] std::span<const Vec3> corners() const {

@@ -23,7 +23,9 @@
 //              rays meet back faces is closed in and not counted). A closed-in leaf
 //              (open fraction 0) is left alone. Exact for a closed scene without
 //              open-ended objects (every ray from an open point meets a front face);
-//              noisy by about sqrt(u (1 - u) / rays) per leaf otherwise. A surplus
+//              noisy by about sqrt(u (1 - u) / rays) per leaf otherwise, so a
+//              correction d of the row sum is shrunk by d^2 / (d^2 + se^2), se the
+//              estimate's standard error over its points (Wiener). A surplus
 //              (S above the target) comes out of what the leaf inherits from cluster
 //              receivers first (Element::cluster_scale), and out of its surface chain's
 //              light only beyond that. It corrects each leaf's total transport, not how
