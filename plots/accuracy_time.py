@@ -90,7 +90,9 @@ for key, (err, _, _) in common.mean_by(rows, ("scene", "point"), ERROR).items():
 scenes = common.unique(points, "scene")
 VARY_ROW_SUMS = len(common.unique(points, "row_sums")) > 1
 for p in points:
-    p["set"] = f"oracle {p['oracle']}" + (f", row_sums {p['row_sums']}" if VARY_ROW_SUMS else "")
+    # Short legend labels (oracle, then row_sums when swept): long ones took a column-wide
+    # figure's legend to ten rows of one column.
+    p["set"] = p["oracle"] + (f", {p['row_sums']}" if VARY_ROW_SUMS else "")
 oracles = common.unique(points, "set")
 fig, axes = common.figure(len(scenes), 2)
 keys = []  # the numbered front points' settings, per panel, for the caption
@@ -111,11 +113,11 @@ for s, scene in enumerate(scenes):
             own = pareto(ps, xkey, "err_pct")
             ax.plot([p[xkey] for p in own], [p["err_pct"] for p in own], color=colour,
                     drawstyle="steps-post", linewidth=1.2,
-                    label=f"Pareto front of {oracle}")
+                    label=f"{oracle}: front")
         front = pareto(mine, xkey, "err_pct")
         ax.scatter([p[xkey] for p in front], [p["err_pct"] for p in front], s=60,
                    facecolors="none", edgecolors="black", linewidths=1.0,
-                   label="Pareto front, all runs")
+                   label="front of all runs")
         # Numbers beside the front's points (their settings would pile up in a
         # column-wide panel), placed once the panel's size is final so that none covers
         # another (a number with no free place is left out); the settings of each
@@ -135,7 +137,7 @@ for s, scene in enumerate(scenes):
         if noise is not None:  # shaded from the axis' bottom, which it does not move
             lo, hi = ax.get_ylim()
             ax.axhspan(min(lo, noise / 2), noise, color="0.88", zorder=0,
-                       label="reference noise (mean standard error)")
+                       label="reference noise (mean SE)")
             ax.set_ylim(min(lo, noise / 2), max(hi, 2 * noise))
         # Labels that can be read on any span (the furnace's errors lie within 0.3-2 %).
         common.label_log_axis(ax.xaxis, *ax.get_xlim())
@@ -145,14 +147,27 @@ for s, scene in enumerate(scenes):
         ax.set_title(f"{common.scene_label(scene)}: error vs {what}")
         ax.grid(True, which="both", alpha=0.25)
 
-# One legend for every panel, above them, so that none covers a panel's points.
+# One legend for every panel, above them, so that none covers a panel's points. A set's
+# runs and its front share one entry (marker and line side by side): ten entries took a
+# column-wide figure's legend to ten rows.
 handles = {}
 for ax in axes:
     for h, l in zip(*ax.get_legend_handles_labels()):
         handles.setdefault(l, h)
+entries = {}
+for oracle in oracles:
+    pair = tuple(handles[k] for k in (f"{oracle}: runs", f"{oracle}: front") if k in handles)
+    if pair:
+        entries[oracle] = pair
+for label in ("front of all runs", "reference noise (mean SE)"):
+    if label in handles:
+        entries[label] = handles[label]
+from matplotlib.legend_handler import HandlerTuple  # noqa: E402 (common checks matplotlib)
+
 # At most three columns (save() takes fewer where the labels are too wide for them).
-columns = min(3, len(handles))
-common.legend_above(fig, handles=handles.values(), labels=handles.keys(), ncol=columns)
+columns = min(3, len(entries))
+common.legend_above(fig, handles=entries.values(), labels=entries.keys(), ncol=columns,
+                    handler_map={tuple: HandlerTuple(ndivide=None)})
 
 common.save(fig, args.out_dir, "accuracy_time",
             common.caption(manifest, runs,
