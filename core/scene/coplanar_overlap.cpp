@@ -170,23 +170,27 @@ CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& 
   std::map<std::size_t, std::pair<Frame, std::vector<std::vector<Point>>>> remains;
   for (const std::vector<std::size_t>& group : plane_groups(scene)) {
     Plane pl = make_plane(scene, group);
-    // Each later face's earlier neighbours that share area with it, then cut in input
-    // order.
-    // (With the area each shares with it, for the report of what is not cut.)
-    std::map<std::size_t, std::vector<std::pair<const Flat*, double>>> cutters;
+    // Each later face (by face index) with its earlier neighbours that share area with
+    // it, and the area each shares (for the report of what is not cut); then cut in
+    // input order.
+    struct Cutters {
+      const Flat* later = nullptr;
+      std::vector<std::pair<const Flat*, double>> earlier;
+    };
+    std::map<std::size_t, Cutters> cutters;
     for_each_candidate(pl.flats, source, [&](const Flat& a, const Flat& b) {
       const double shared = area(clip(a.p, b.p));
       if (!shares_area(shared, a.area, b.area)) return;
       const bool a_first = a.face < b.face;
-      cutters[a_first ? b.face : a.face].emplace_back(a_first ? &a : &b, shared);
+      Cutters& c = cutters[a_first ? b.face : a.face];
+      c.later = a_first ? &b : &a;
+      c.earlier.emplace_back(a_first ? &a : &b, shared);
     });
-    if (cutters.empty()) continue;
-    std::map<std::size_t, const Flat*> flat_of;
-    for (const Flat& f : pl.flats) flat_of[f.face] = &f;
-    for (auto& [face, earlier] : cutters) {
+    for (auto& [face, c] : cutters) {
+      auto& earlier = c.earlier;
       std::sort(earlier.begin(), earlier.end(),
                 [](const auto& x, const auto& y) { return x.first->face < y.first->face; });
-      const Flat& b = *flat_of[face];
+      const Flat& b = *c.later;
       std::vector<std::vector<Point>> pieces = {b.p};
       bool cut = false, too_many = false;
       for (const auto& [a, shared] : earlier) {
