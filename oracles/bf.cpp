@@ -21,10 +21,10 @@ class BfOracle final : public IOracle {
         dark_floor_(p.get_double("dark_floor")),
         shadow_contrast_(p.get_double("shadow_contrast")) {}
   Verdict judge(const LinkEstimate& l, const OracleThresholds& t) const override {
-    const double err = reflected_power_scale(*l.receiver, *l.source) * l.form_factor *
-                       occlusion_weight(l, occluded_weight_);
-    const bool accept =
-        err < receiver_threshold(l, t, dark_floor_) && !shadow_too_sharp(l, shadow_contrast_);
+    const double err = reflected_power_scale(*l.receiver, *l.source, t.channel_weight) *
+                       l.form_factor * occlusion_weight(l, occluded_weight_);
+    const bool accept = err < receiver_threshold(l, t, dark_floor_) &&
+                        !shadow_too_sharp(l, shadow_contrast_, t.channel_weight);
     return {accept ? Decision::Accept : Decision::Refine, err};
   }
   const char* name() const override { return "bf"; }

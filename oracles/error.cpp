@@ -26,10 +26,10 @@ class ErrorOracle final : public IOracle {
     const bool cluster = l.receiver->is_cluster() || l.source->is_cluster();
     const double uncertainty =
         cluster ? l.form_factor : l.form_factor_spread + (partial ? l.form_factor : 0.0);
-    const double err = reflected_power_scale(*l.receiver, *l.source) * uncertainty *
-                       occlusion_weight(l, occluded_weight_);
-    const bool accept =
-        err < receiver_threshold(l, t, dark_floor_) && !shadow_too_sharp(l, shadow_contrast_);
+    const double err = reflected_power_scale(*l.receiver, *l.source, t.channel_weight) *
+                       uncertainty * occlusion_weight(l, occluded_weight_);
+    const bool accept = err < receiver_threshold(l, t, dark_floor_) &&
+                        !shadow_too_sharp(l, shadow_contrast_, t.channel_weight);
     return {accept ? Decision::Accept : Decision::Refine, err};
   }
   bool needs_spread() const override { return true; }

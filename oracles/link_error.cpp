@@ -6,11 +6,22 @@
 #include "oracles/oracle.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hrad {
 
-double reflected_power_scale(const Element& r, const Element& s) {
-  return (r.rho * s.B).maxCoeff() * r.area;
+double reflected_power_scale(const Element& r, const Element& s, const Rgb& w) {
+  return (w * r.rho * s.B).maxCoeff() * r.area;
+}
+
+Rgb channel_weights(const Rgb& power) {
+  const double strongest = power.maxCoeff();
+  Rgb w = Rgb::Ones();
+  if (!(strongest > 0) || !std::isfinite(strongest)) return w;
+  for (int c = 0; c < 3; ++c)
+    if (power[c] < strongest)
+      w[c] = power[c] > strongest / kMaxChannelWeight ? strongest / power[c] : kMaxChannelWeight;
+  return w;
 }
 
 double occlusion_weight(const LinkEstimate& l, double weight) {
@@ -26,21 +37,21 @@ double receiver_threshold(const LinkEstimate& l, const OracleThresholds& t, doub
   for (int c = 0; c < 3; ++c) {
     const double reflected = r.B[c] - r.emission[c];
     gathered = gathered || reflected != 0;
-    if (r.rho[c] > 0) irradiance = std::max(irradiance, reflected / r.rho[c]);
+    if (r.rho[c] > 0) irradiance = std::max(irradiance, t.channel_weight[c] * reflected / r.rho[c]);
   }
   // Nothing gathered yet (the first iteration): nothing known about its light.
   if (!gathered) return t.eps_power;
   return t.eps_power * std::clamp(irradiance / t.mean_irradiance, floor, 1.0);
 }
 
-bool shadow_too_sharp(const LinkEstimate& l, double contrast) {
+bool shadow_too_sharp(const LinkEstimate& l, double contrast, const Rgb& weight) {
   const Element& r = *l.receiver;
   const Element& s = *l.source;
   if (!(contrast > 0) || r.is_cluster() || s.is_cluster()) return false;
   if (!(l.visibility > 0 && l.visibility < 1)) return false;
-  const double reflected = (r.B - r.emission).maxCoeff();
+  const double reflected = (weight * (r.B - r.emission)).maxCoeff();
   if (!(reflected > 0)) return false;  // nothing gathered yet: nothing to compare with
-  const double full = (r.rho * s.B).maxCoeff() * l.form_factor;
+  const double full = (weight * r.rho * s.B).maxCoeff() * l.form_factor;
   return full * 2 * std::min(l.visibility, 1 - l.visibility) > contrast * reflected;
 }
 

@@ -290,6 +290,41 @@ double mean_projected_area(const Element& c) {
   return sum / n;
 }
 
+// Coloured light: each channel is weighted by the strongest channel's emitted power over
+// its own, at most kMaxChannelWeight; grey light (or none) weighs every channel 1.
+TEST(Oracle, ChannelWeightsJudgeEachChannelAgainstItsOwnLight) {
+  EXPECT_TRUE((channel_weights(Rgb(3, 3, 3)) == Rgb::Ones()).all());
+  EXPECT_TRUE((channel_weights(Rgb::Zero()) == Rgb::Ones()).all());
+  EXPECT_TRUE((channel_weights(Rgb(8, 2, 1)) == Rgb(1, 4, 8)).all());
+  EXPECT_TRUE((channel_weights(Rgb(1, 4, 2)) == Rgb(4, 1, 2)).all());
+  // A channel under a hundredth of the strongest (or without light) weighs 100.
+  EXPECT_TRUE(
+      (channel_weights(Rgb(1, 0, 1e-9)) == Rgb(1, kMaxChannelWeight, kMaxChannelWeight)).all());
+  EXPECT_TRUE((channel_weights(Rgb(1, 1, 1e300 * 1e300)) == Rgb::Ones()).all());  // inf: unweighted
+
+  // A blue receiver lit by a source whose blue is an eighth of its red: unweighted, red
+  // decides (rho B = (0.125, 0.125, 0.125 x 0.75)); with the weights of a light of that
+  // colour (1, 1, 8), blue does: 0.75, six times more, and the link is refined.
+  Element r, s;
+  set(r, ElementKind::Surface, 1.0, 0, 0);
+  set(s, ElementKind::Surface, 1.0, 0, 0);
+  r.rho = Rgb(0.125, 0.125, 0.75);
+  s.B = Rgb(1, 1, 0.125);
+  const Rgb w = channel_weights(Rgb(8, 8, 1));
+  EXPECT_EQ(reflected_power_scale(r, s), 0.125);
+  EXPECT_EQ(reflected_power_scale(r, s, w), 0.75);
+  const auto bf = make_oracle("bf");
+  const LinkEstimate l{&r, &s, 0.5, 1, 0};
+  EXPECT_EQ(bf->judge(l, OracleThresholds{0.25}).decision, Decision::Accept);
+  EXPECT_EQ(bf->judge(l, OracleThresholds{0.25, 0, w}).decision, Decision::Refine);
+  EXPECT_EQ(bf->judge(l, OracleThresholds{0.25, 0, w}).error, 0.375);
+  // The dark receiver's irradiance is weighed alike: blue (B - E) / rho = 0.5 x 8 = 4
+  // against a mean of 8 (threshold x 1/2), where red alone gives 1/8 (x kDarkThresholdFloor).
+  r.B = Rgb(0.125 * 0.125, 0.125 * 0.125, 0.75 * 0.5);
+  EXPECT_EQ(receiver_threshold(l, OracleThresholds{1.0, 8.0}), kDarkThresholdFloor);
+  EXPECT_EQ(receiver_threshold(l, OracleThresholds{1.0, 8.0, w}), 0.5);
+}
+
 // The directional model is exact for axis-aligned members and, for tilted ones,
 // right on average: over all directions a member's mean projected area is A/4. With
 // the old weights max(0, +-n_i) a member facing (1,1,1)/sqrt 3 came out at

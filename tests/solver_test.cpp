@@ -396,6 +396,42 @@ TEST(SolverHardCases, ScaleInvariance) {
   }
 }
 
+// The oracles judge each colour channel against its own light (channel_weights in
+// oracles/oracle.h): dimming the red and green of the Cornell box's light by powers of
+// two refines the same links as the grey light, and the solution's channels scale by
+// those factors (the propagation stops on the largest channel's change relative to the
+// brightest radiosity, so a channel dimmed eightfold converges to about eight times
+// gather_tolerance of the brightest radiosity). Unweighted,
+// red and green lost their say to blue (the red wall reflects 0.63 of a red now an
+// eighth as bright): 39,057 links against 47,698.
+TEST(SolverColour, DimmingAChannelOfTheLightRefinesTheSameLinks) {
+  SolverOptions o;
+  o.iterations = 2;
+  std::vector<std::vector<std::pair<std::uint64_t, std::uint64_t>>> links;
+  std::vector<std::vector<Solver::Leaf>> leaves;
+  const Rgb dim(0.125, 0.25, 1);
+  for (const bool coloured : {false, true}) {
+    Scene scene = make_builtin("builtin:cornell");
+    if (coloured)
+      for (Material& m : scene.materials)
+        if (m.emits()) m.emission *= dim;
+    Solver s(scene, o);
+    s.run();
+    links.push_back(s.link_ids());
+    leaves.push_back(s.leaves());
+  }
+  ASSERT_EQ(links[1].size(), links[0].size());
+  ASSERT_TRUE(links[1] == links[0]) << "the same number of links, not the same links";
+  ASSERT_EQ(leaves[0].size(), leaves[1].size());
+  double brightest = 0;
+  for (const Solver::Leaf& l : leaves[0]) brightest = std::max(brightest, l.radiosity.maxCoeff());
+  for (std::size_t i = 0; i < leaves[0].size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(leaves[1][i].radiosity[c], dim[c] * leaves[0][i].radiosity[c],
+                  20 * o.gather_tolerance * brightest)
+          << "leaf " << i << " channel " << c;
+}
+
 // Two rooms share one floor polygon; a wall stands on it. Only room A has a
 // light. Whatever reaches room B leaks through the shared floor element, and
 // refinement must make that leak small.

@@ -107,11 +107,12 @@ struct Rest {
 // Cuts `chain` to its kExactChain strongest links (ties by source id, so that the cut
 // does not depend on the order the links were stored in) and returns what the others
 // give each child.
-Rest cut_chain(std::vector<ChainLink>& chain, bool any_light) {
+Rest cut_chain(std::vector<ChainLink>& chain, bool any_light, const Rgb& w) {
   Rest rest;
   if (chain.size() <= kExactChain) return rest;
-  const auto strength = [any_light](const ChainLink& l) {
-    return l.form_factor * std::max(l.visibility, 0.0) * (any_light ? l.source->B.sum() : 1.0);
+  const auto strength = [any_light, &w](const ChainLink& l) {
+    return l.form_factor * std::max(l.visibility, 0.0) *
+           (any_light ? (w * l.source->B).sum() : 1.0);
   };
   const auto end = chain.begin() + static_cast<std::ptrdiff_t>(kExactChain);
   std::nth_element(chain.begin(), end, chain.end(), [&](const ChainLink& a, const ChainLink& b) {
@@ -124,7 +125,7 @@ Rest cut_chain(std::vector<ChainLink>& chain, bool any_light) {
     if (!(l->visibility > 0)) continue;
     const double f = l->form_factor * l->visibility;
     rest.geometry += f;
-    rest.light += f * l->source->B.sum();
+    rest.light += f * (w * l->source->B).sum();
   }
   chain.erase(end, chain.end());
   return rest;
@@ -133,12 +134,13 @@ Rest cut_chain(std::vector<ChainLink>& chain, bool any_light) {
 // Both sets of weights of P's children, into light[k] and geometry[k] (child k): the
 // form factors from each child's centre to the sources of the links of P's surface
 // chain (P and its surface ancestors up to its input polygon), times the links'
-// visibility, and for `light` the sources' radiosity (all channels; the geometric
+// visibility, and for `light` the sources' radiosity (all channels, times the channel
+// weights; the geometric
 // weights when every source is dark), each set normalised to an open-area mean of 1
 // over the children (which also takes out the difference between the centre values and
 // the links' own quadrature on average). A chain without links leaves both at 1.
 std::uint64_t weigh_children(const Element& p, const Transport& transport, bool any_light,
-                             PushVisibility mode, std::vector<ChainLink>& chain,
+                             const Rgb& w, PushVisibility mode, std::vector<ChainLink>& chain,
                              const PushWeights::ChildVisibility* old,
                              PushWeights::ChildVisibility* now, std::vector<std::size_t>& row,
                              float* light, float* geometry, float* cluster) {
@@ -148,7 +150,7 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
     for (const Link& l : a->links)
       chain.push_back({l.source, l.visibility(), static_cast<double>(l.form_factor)});
   if (chain.empty()) return 0;
-  const Rest rest = cut_chain(chain, any_light);
+  const Rest rest = cut_chain(chain, any_light, w);
   std::uint64_t rays = 0;
   const bool own = mode == PushVisibility::Child;
   if (own) rays = own_visibilities(p, transport, chain, old, *now, row);
@@ -166,7 +168,7 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
                      static_cast<double>(now->visibility[row[e] * kids.size() + k]) / open_share);
       const double f = point_weight(c.center, c.normal, *source, transport) * v;
       wg += f;
-      wl += f * source->B.sum();
+      wl += f * (w * source->B).sum();
     }
     wg += rest.geometry;
     wl += rest.light;
@@ -201,7 +203,7 @@ std::uint64_t weigh_children(const Element& p, const Transport& transport, bool 
 }  // namespace
 
 std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const Transport& transport,
-                                  int threads, PushVisibility mode) {
+                                  int threads, PushVisibility mode, const Rgb& channel_weight) {
   const bool any_light =
       parallel_any(elements, threads, [](const Element* e) { return (e->B > 0).any(); });
   threads_ = threads;
@@ -233,9 +235,9 @@ std::uint64_t PushWeights::update(const std::vector<Element*>& elements, const T
     const std::size_t at = offset_[u];
     const ChildVisibility* old = nullptr;
     if (const auto it = previous.find(&p); it != previous.end()) old = &own_[it->second];
-    rays +=
-        weigh_children(p, transport, any_light, mode, chain, old, now.empty() ? nullptr : &now[u],
-                       row, &light_[at], &geometry_[at], &cluster_[at]);
+    rays += weigh_children(p, transport, any_light, channel_weight, mode, chain, old,
+                           now.empty() ? nullptr : &now[u], row, &light_[at], &geometry_[at],
+                           &cluster_[at]);
     evaluations += p.child_span().size() * chain.size();  // the chain as weigh_children cut it
   }
   throw_if_interrupted();

@@ -88,8 +88,12 @@ class PushWeights {
   /// and source, for the next update on the same hierarchy: a later refinement stage
   /// adds links, and only the new parent-source pairs cast rays (the rays are a pure
   /// function of the two ids and the seed, so the weights are the same either way).
+  /// The light weights count a source's radiosity as the sum of its channels times
+  /// `channel_weight` (the oracles' channel weights, oracles/oracle.h: each channel
+  /// against its own light).
   std::uint64_t update(const std::vector<Element*>& elements, const Transport& transport,
-                       int threads, PushVisibility mode = PushVisibility::Link);
+                       int threads, PushVisibility mode = PushVisibility::Link,
+                       const Rgb& channel_weight = Rgb::Ones());
   /// Writes one set into every child's push_weight, and the cluster weights (the same
   /// for both sets: geometric) into its cluster_weight.
   void apply(bool geometric) const;

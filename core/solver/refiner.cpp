@@ -228,7 +228,7 @@ Refiner::Step Refiner::judge(const Task& task, Worker& w, LinkEstimate& est) {
     }
   }
   if (oracle_.needs_spread()) est.form_factor_spread = transport_.form_factor_spread(r, s);
-  const OracleThresholds th{limits_.eps_power, limits_.mean_irradiance};
+  const OracleThresholds th{limits_.eps_power, limits_.mean_irradiance, limits_.channel_weight};
   // What the oracle may refine: past min_area too, down to oracle_levels below the input
   // polygon (RefineLimits).
   const bool ask_r = can_r || oracle_may_split(r), ask_s = can_s || oracle_may_split(s);

@@ -62,6 +62,9 @@ struct RefineLimits {
   /// open too often, and the link was kept where it should have been opened (0: the
   /// transport's visibility_rays).
   int decision_visibility_rays = 0;
+  /// The oracles' colour channel weights (OracleThresholds::channel_weight,
+  /// channel_weights in oracles/oracle.h).
+  Rgb channel_weight = Rgb::Ones();
 };
 
 /// A stage's initial tasks: reload_links fills every field of every task in parallel,

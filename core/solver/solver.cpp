@@ -169,6 +169,9 @@ struct Solver::Impl {
   RowSumMode row_sum_mode;
   ClusterReceiver receiver_mode;
   double emitted_power = 0;  ///< sum over faces of area x largest emission channel
+  /// Each colour channel judged against its own light: the oracles' and the push
+  /// weights' channel weights (channel_weights, oracles/oracle.h).
+  Rgb channel_weight = Rgb::Ones();
   double total_area = 0;
   Effects effects;  ///< what the scene needs (core/config/effects.h)
   /// Kept across iterations: with push_visibility = child it holds the children's own
@@ -195,6 +198,7 @@ struct Solver::Impl {
         row_sum_mode(o.row_sums),
         receiver_mode(o.cluster_receiver),
         emitted_power(s.max_channel_emitted_power()),
+        channel_weight(channel_weights(s.emitted_power())),
         total_area(s.total_area()) {
     throw_if_interrupted();
     effects = analyse_effects(s, o);
@@ -288,7 +292,8 @@ RunStats Solver::run() {
                             m.total_area > 0 ? m.emitted_power / m.total_area : 0.0,
                             o.decision_rays == DecisionRays::Independent,
                             0,
-                            o.decision_visibility_rays};
+                            o.decision_visibility_rays,
+                            m.channel_weight};
   const SchedulerConfig sched_config{o.threads,
                                      o.block_size,
                                      m.topology->info().numa_nodes,
@@ -527,7 +532,8 @@ std::vector<Element*> Solver::Impl::prepare_propagation(IterationStats& is) {
   // row sums (clamp, normalize) must act on the propagation's own operator, so it
   // measures them with the light weights (in a furnace, normalize is then exact).
   const auto push_start = Clock::now();
-  is.rays_cast += push_weights.update(elements, transport, o.threads, o.push_visibility);
+  is.rays_cast +=
+      push_weights.update(elements, transport, o.threads, o.push_visibility, channel_weight);
   const bool geometric_row_sums = row_sum_mode == RowSumMode::Keep;
   push_weights.apply(geometric_row_sums);
   is.push_weights_s = seconds_since(push_start);
