@@ -1,6 +1,7 @@
 #include "core/scene/coplanar_overlap.h"
 
 #include "core/base/interrupt.h"
+#include "core/scene/scene_builder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -149,92 +150,98 @@ void for_each_candidate(std::vector<Flat>& flats, std::span<const std::uint32_t>
 // Whether two faces share enough area to count as overlapping.
 bool shares_area(double shared, double a, double b) { return shared > 1e-6 * std::min(a, b); }
 
-// A piece too thin or too small to keep: area below 1e-12 of its squared edge lengths
-// (the builder's sliver test) or below 1e-9 of its face's.
+// A piece too thin or too small to keep: a sliver by the builder's test
+// (kSliverAreaRatio) or below 1e-9 of its face's area.
 bool negligible(const std::vector<Point>& p, double face_area) {
   double edges2 = 0;
   for (std::size_t i = 0; i < p.size(); ++i) edges2 += (p[(i + 1) % p.size()] - p[i]).squaredNorm();
   const double a = area(p);
-  return !(a > 1e-12 * edges2) || !(a > 1e-9 * face_area);
+  return !(a > kSliverAreaRatio * edges2) || !(a > 1e-9 * face_area);
 }
 
-}  // namespace
+// Per cut face, its remains as convex pieces in its plane's frame.
+using Remains = std::map<std::size_t, std::pair<Frame, std::vector<std::vector<Point>>>>;
 
-CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& source) {
-  CoplanarCuts r;
-  if (source.size() != scene.faces.size()) {  // not given: every face its own polygon
-    source.resize(scene.faces.size());
-    std::iota(source.begin(), source.end(), std::uint32_t{0});
-  }
-  // Per cut face, its remains as convex pieces in its plane's frame.
-  std::map<std::size_t, std::pair<Frame, std::vector<std::vector<Point>>>> remains;
-  for (const std::vector<std::size_t>& group : plane_groups(scene)) {
-    Plane pl = make_plane(scene, group);
-    // Each later face (by face index) with its earlier neighbours that share area with
-    // it, and the area each shares (for the report of what is not cut); then cut in
-    // input order.
-    struct Cutters {
-      const Flat* later = nullptr;
-      std::vector<std::pair<const Flat*, double>> earlier;
-    };
-    std::map<std::size_t, Cutters> cutters;
-    for_each_candidate(pl.flats, source, [&](const Flat& a, const Flat& b) {
-      const double shared = area(clip(a.p, b.p));
-      if (!shares_area(shared, a.area, b.area)) return;
-      const bool a_first = a.face < b.face;
-      Cutters& c = cutters[a_first ? b.face : a.face];
-      c.later = a_first ? &b : &a;
-      c.earlier.emplace_back(a_first ? &a : &b, shared);
-    });
-    for (auto& [face, c] : cutters) {
-      auto& earlier = c.earlier;
-      std::sort(earlier.begin(), earlier.end(),
-                [](const auto& x, const auto& y) { return x.first->face < y.first->face; });
-      const Flat& b = *c.later;
-      std::vector<std::vector<Point>> pieces = {b.p};
-      bool cut = false, too_many = false;
-      for (const auto& [a, shared] : earlier) {
-        poll_interrupt(a->face);
-        std::vector<std::vector<Point>> next;
-        for (std::vector<Point>& piece : pieces) {
-          if (!shares_area(area(clip(piece, a->p)), a->area, b.area)) {
-            next.push_back(std::move(piece));
-            continue;
-          }
-          cut = true;
-          for (std::vector<Point>& rest : subtract(std::move(piece), a->p))
-            if (!negligible(rest, b.area)) next.push_back(std::move(rest));
-        }
-        pieces = std::move(next);
-        if (pieces.size() > kMaxOverlapPieces) {
-          too_many = true;
-          break;
-        }
-      }
-      if (too_many) {  // left whole: each pair it makes with an earlier face is reported
-        for (const auto& [a, shared] : earlier) {
-          if (r.left_pairs++ == 0) r.left_first = polygon_centroid(scene.face_vertices(a->face));
-          r.left_area += shared;
-        }
+// A later face b cut by its earlier neighbours (sorted by face index here): its pieces,
+// whether any cut it, and whether it made more than kMaxOverlapPieces (then left whole).
+struct FaceCut {
+  std::vector<std::vector<Point>> pieces;
+  bool cut = false, too_many = false;
+};
+FaceCut cut_face(const Flat& b, std::vector<std::pair<const Flat*, double>>& earlier) {
+  std::sort(earlier.begin(), earlier.end(),
+            [](const auto& x, const auto& y) { return x.first->face < y.first->face; });
+  FaceCut fc;
+  fc.pieces = {b.p};
+  for (const auto& [a, shared] : earlier) {
+    poll_interrupt(a->face);
+    std::vector<std::vector<Point>> next;
+    for (std::vector<Point>& piece : fc.pieces) {
+      if (!shares_area(area(clip(piece, a->p)), a->area, b.area)) {
+        next.push_back(std::move(piece));
         continue;
       }
-      if (!cut) continue;
-      double left = 0;
-      for (const auto& piece : pieces) left += area(piece);
-      if (r.faces_cut++ == 0) r.first = polygon_centroid(scene.face_vertices(face));
-      r.area += std::max(0.0, b.area - left);
-      if (pieces.empty()) ++r.faces_dropped;
-      r.pieces += pieces.size();
-      remains[face] = {pl.frame, std::move(pieces)};
+      fc.cut = true;
+      for (std::vector<Point>& rest : subtract(std::move(piece), a->p))
+        if (!negligible(rest, b.area)) next.push_back(std::move(rest));
+    }
+    fc.pieces = std::move(next);
+    if (fc.pieces.size() > kMaxOverlapPieces) {
+      fc.too_many = true;
+      break;
     }
   }
-  if (remains.empty()) return r;
+  return fc;
+}
 
-  // The faces again, in their order, each cut face replaced by its pieces; a piece's
-  // corner that is one of its face's own corners keeps that vertex.
+// The faces of one plane's group that share area with earlier ones, cut into `remains`,
+// with what was cut or left in `r`.
+void cut_plane(const Scene& scene, const std::vector<std::size_t>& group,
+               const std::vector<std::uint32_t>& source, CoplanarCuts& r, Remains& remains) {
+  Plane pl = make_plane(scene, group);
+  // Each later face (by face index) with its earlier neighbours that share area with
+  // it, and the area each shares (for the report of what is not cut); then cut in
+  // input order.
+  struct Cutters {
+    const Flat* later = nullptr;
+    std::vector<std::pair<const Flat*, double>> earlier;
+  };
+  std::map<std::size_t, Cutters> cutters;
+  for_each_candidate(pl.flats, source, [&](const Flat& a, const Flat& b) {
+    const double shared = area(clip(a.p, b.p));
+    if (!shares_area(shared, a.area, b.area)) return;
+    const bool a_first = a.face < b.face;
+    Cutters& c = cutters[a_first ? b.face : a.face];
+    c.later = a_first ? &b : &a;
+    c.earlier.emplace_back(a_first ? &a : &b, shared);
+  });
+  for (auto& [face, c] : cutters) {
+    FaceCut fc = cut_face(*c.later, c.earlier);
+    if (fc.too_many) {  // left whole: each pair it makes with an earlier face is reported
+      for (const auto& [a, shared] : c.earlier) {
+        if (r.left_pairs++ == 0) r.left_first = polygon_centroid(scene.face_vertices(a->face));
+        r.left_area += shared;
+      }
+      continue;
+    }
+    if (!fc.cut) continue;
+    double left = 0;
+    for (const auto& piece : fc.pieces) left += area(piece);
+    if (r.faces_cut++ == 0) r.first = polygon_centroid(scene.face_vertices(face));
+    r.area += std::max(0.0, c.later->area - left);
+    if (fc.pieces.empty()) ++r.faces_dropped;
+    r.pieces += fc.pieces.size();
+    remains[face] = {pl.frame, std::move(fc.pieces)};
+  }
+}
+
+// The faces again, in their order, each cut face replaced by its pieces; a piece's
+// corner that is one of its face's own corners keeps that vertex.
+void replace_cut_faces(Scene& scene, std::vector<std::uint32_t>& source, const Remains& remains,
+                       std::size_t pieces) {
   std::vector<Face> faces;
   std::vector<std::uint32_t> indices, sources;
-  faces.reserve(scene.faces.size() + r.pieces);
+  faces.reserve(scene.faces.size() + pieces);
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     const Face& old = scene.faces[f];
     const auto it = remains.find(f);
@@ -277,6 +284,20 @@ CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& 
   scene.faces = std::move(faces);
   scene.indices = std::move(indices);
   source = std::move(sources);
+}
+
+}  // namespace
+
+CoplanarCuts remove_coplanar_overlaps(Scene& scene, std::vector<std::uint32_t>& source) {
+  CoplanarCuts r;
+  if (source.size() != scene.faces.size()) {  // not given: every face its own polygon
+    source.resize(scene.faces.size());
+    std::iota(source.begin(), source.end(), std::uint32_t{0});
+  }
+  Remains remains;
+  for (const std::vector<std::size_t>& group : plane_groups(scene))
+    cut_plane(scene, group, source, r, remains);
+  if (!remains.empty()) replace_cut_faces(scene, source, remains, r.pieces);
   return r;
 }
 

@@ -112,10 +112,9 @@ void SceneBuilder::add_polygon(std::span<const std::uint32_t> idx, std::uint32_t
   for (std::size_t i = 0; i < p.size(); ++i)
     perimeter2 += (p[(i + 1) % p.size()] - p[i]).squaredNorm();
   const double area = polygon_area(p);
-  if (!(area > 1e-12 * perimeter2)) {
-    // A face of no area at all, or a sliver: area below 1e-12 of its squared edge
-    // lengths (a long face 1e-10 wide), whose normal cannot be trusted. They were all
-    // called zero-area.
+  if (!(area > kSliverAreaRatio * perimeter2)) {
+    // A face of no area at all, or a sliver (kSliverAreaRatio), whose normal cannot be
+    // trusted. They were all called zero-area.
     ++(area > 0 ? sliver_faces_ : degenerate_faces_);
     return;
   }
@@ -258,9 +257,9 @@ Scene SceneBuilder::finish(const std::string& file) {
     warn(fmt::format("{} degenerate (zero-area) face(s) dropped", degenerate_faces_));
   if (sliver_faces_ > 0)
     warn(
-        fmt::format("{} sliver face(s) dropped (area below 1e-12 of the squared edge lengths: "
+        fmt::format("{} sliver face(s) dropped (area below {:g} of the squared edge lengths: "
                     "too thin for a reliable normal)",
-                    sliver_faces_));
+                    sliver_faces_, kSliverAreaRatio));
   if (self_overlapping_faces_ > 0)
     warn(
         fmt::format("{} self-overlapping polygon(s) dropped (the first at {}): a polygon whose "

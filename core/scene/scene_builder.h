@@ -36,6 +36,11 @@ inline constexpr double kMinExitance = 1e-20;
 /// area are reported (core/scene/coplanar_overlap.h).
 inline constexpr double kCoplanarOverlapShare = 1e-3;
 
+/// A polygon whose area is below this share of the sum of its squared edge lengths is a
+/// sliver (a long face 1e-10 wide): its normal cannot be trusted, and the builder drops
+/// it (so does the coplanar cut with such a piece, core/scene/coplanar_overlap.h).
+inline constexpr double kSliverAreaRatio = 1e-12;
+
 /// Most corners one input polygon may have (1,048,576), refused with its file, line and
 /// count before any work on it: the checks and the triangulation of a polygon at the
 /// bound take seconds (docs/bad-input.md), and one polygon gives the solver as many

@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -113,14 +115,10 @@ std::pair<std::size_t, std::size_t> sweep_crossing(const std::vector<Point>& q,
   return none;
 }
 
-}  // namespace
-
-SelfOverlap find_self_overlap(std::span<const Vec3> p) {
-  SelfOverlap r;
+// Whether the polygon runs an edge twice in the same direction (by positions: a face may
+// repeat indices or give the same corner twice under two indices): what it says, or "".
+std::string repeated_edge(std::span<const Vec3> p) {
   const std::size_t k = p.size();
-  if (k < 4) return r;  // a triangle cannot overlap itself
-  // An edge run twice in the same direction (by positions: a face may repeat indices or
-  // give the same corner twice under two indices).
   std::map<std::array<double, 6>, std::size_t> directed;
   for (std::size_t i = 0; i < k; ++i) {
     const Vec3& a = p[i];
@@ -128,11 +126,76 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
     if (a == b) continue;
     const auto [it, fresh] =
         directed.emplace(std::array<double, 6>{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}, i);
-    if (!fresh) {
-      r.found = true;
-      r.what = fmt::format("edge {} runs along edge {} again", i + 1, it->second + 1);
-      return r;
-    }
+    if (!fresh) return fmt::format("edge {} runs along edge {} again", i + 1, it->second + 1);
+  }
+  return {};
+}
+
+// The first pair of crossing edges found by binning the edges of q (corners relative to
+// their box's low corner, `extent` its size) on a grid of about k cells, or {k, k}.
+template <class Crossing>
+std::pair<std::size_t, std::size_t> grid_crossing(const std::vector<Point>& q, const Point& extent,
+                                                  const Crossing& crossing) {
+  constexpr std::size_t kCellsPerEdge = 16;
+  const std::size_t k = q.size();
+  // Pairs meet in a cell. A pair whose boxes share several cells is tested once, in the
+  // cell of their common box's low corner, and a pair whose boxes do not meet not at all:
+  // the slanted edges of a many-pointed star share dozens of cells, and testing each pair
+  // in each of them made 50,000 corners take seconds.
+  const std::array<std::size_t, 2> shape = grid_shape(extent.x(), extent.y(), k);
+  const std::size_t gx = shape[0], gy = shape[1];
+  const Point cell(extent.x() / static_cast<double>(gx), extent.y() / static_cast<double>(gy));
+  std::vector<Point> box_lo(k), box_hi(k);
+  std::vector<std::array<std::size_t, 4>> span(k);  // x0, x1, y0, y1
+  std::size_t entries = 0;
+  for (std::size_t i = 0; i < k; ++i) {
+    const Point a = q[i], b = q[(i + 1) % k];
+    box_lo[i] = a.cwiseMin(b);
+    box_hi[i] = a.cwiseMax(b);
+    span[i] = {grid_cell(box_lo[i].x(), 0, cell.x(), gx), grid_cell(box_hi[i].x(), 0, cell.x(), gx),
+               grid_cell(box_lo[i].y(), 0, cell.y(), gy),
+               grid_cell(box_hi[i].y(), 0, cell.y(), gy)};
+    entries += (span[i][1] - span[i][0] + 1) * (span[i][3] - span[i][2] + 1);
+  }
+  // Edges long beside the cells, and slanted, cover many cells each, and then each cell
+  // holds many edges: a star of 50,000 thin spikes put about 100 edges into each of
+  // its cells, a million pairs a cell, and took seconds (200,000 spikes, minutes). Such
+  // a polygon is swept instead (O(k log k), whatever the shape); the grid, which tests
+  // every pair that meets, stays for the others.
+  if (entries > kCellsPerEdge * k) return sweep_crossing(q, crossing);
+  std::vector<std::vector<std::size_t>> bins(gx * gy);
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t y = span[i][2]; y <= span[i][3]; ++y)
+      for (std::size_t x = span[i][0]; x <= span[i][1]; ++x) bins[y * gx + x].push_back(i);
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    const std::vector<std::size_t>& bin = bins[b];
+    poll_interrupt(b, 1024);
+    const std::size_t bx = b % gx, by = b / gx;
+    for (std::size_t s = 0; s < bin.size(); ++s)
+      for (std::size_t t = s + 1; t < bin.size(); ++t) {
+        const std::size_t i = bin[s], j = bin[t];
+        const Point common_lo = box_lo[i].cwiseMax(box_lo[j]);
+        const Point common_hi = box_hi[i].cwiseMin(box_hi[j]);
+        if ((common_lo.array() > common_hi.array()).any()) continue;
+        if (grid_cell(common_lo.x(), 0, cell.x(), gx) != bx ||
+            grid_cell(common_lo.y(), 0, cell.y(), gy) != by)
+          continue;
+        if (crossing(i, j)) return {i, j};
+      }
+  }
+  return {k, k};
+}
+
+}  // namespace
+
+SelfOverlap find_self_overlap(std::span<const Vec3> p) {
+  SelfOverlap r;
+  const std::size_t k = p.size();
+  if (k < 4) return r;  // a triangle cannot overlap itself
+  r.what = repeated_edge(p);
+  if (!r.what.empty()) {
+    r.found = true;
+    return r;
   }
   const Vec3 n = plane_normal(p);
   if (n.isZero()) return r;  // every corner degenerate: no area to cover twice
@@ -163,68 +226,22 @@ SelfOverlap find_self_overlap(std::span<const Vec3> p) {
     return sign(orient2d(a, b, c)) * sign(orient2d(a, b, d)) < 0 &&
            sign(orient2d(c, d, a)) * sign(orient2d(c, d, b)) < 0;
   };
-  const auto found = [&](std::size_t i, std::size_t j) {
-    r.found = true;
-    r.what = fmt::format("edges {} and {} cross", std::min(i, j) + 1, std::max(i, j) + 1);
-    return r;
-  };
   constexpr std::size_t kBrute = 64;
-  constexpr std::size_t kCellsPerEdge = 16;
+  std::pair<std::size_t, std::size_t> ij{k, k};
   if (k <= kBrute) {
-    for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t i = 0; i < k && ij.first == k; ++i)
       for (std::size_t j = i + 2; j < k; ++j)
-        if (crossing(i, j)) return found(i, j);
-    return r;
+        if (crossing(i, j)) {
+          ij = {i, j};
+          break;
+        }
+  } else {
+    ij = grid_crossing(q, hi - lo, crossing);
   }
-  // Edges binned by their boxes on a grid of about k cells; pairs meet in a cell. A pair
-  // whose boxes share several cells is tested once, in the cell of their common box's
-  // low corner, and a pair whose boxes do not meet not at all: the slanted edges of a
-  // many-pointed star share dozens of cells, and testing each pair in each of them made
-  // 50,000 corners take seconds.
-  const Point extent = hi - lo;
-  const std::array<std::size_t, 2> shape = grid_shape(extent.x(), extent.y(), k);
-  const std::size_t gx = shape[0], gy = shape[1];
-  const Point cell(extent.x() / static_cast<double>(gx), extent.y() / static_cast<double>(gy));
-  std::vector<Point> box_lo(k), box_hi(k);
-  std::vector<std::array<std::size_t, 4>> span(k);  // x0, x1, y0, y1
-  std::size_t entries = 0;
-  for (std::size_t i = 0; i < k; ++i) {
-    const Point a = q[i], b = q[(i + 1) % k];
-    box_lo[i] = a.cwiseMin(b);
-    box_hi[i] = a.cwiseMax(b);
-    span[i] = {grid_cell(box_lo[i].x(), 0, cell.x(), gx), grid_cell(box_hi[i].x(), 0, cell.x(), gx),
-               grid_cell(box_lo[i].y(), 0, cell.y(), gy),
-               grid_cell(box_hi[i].y(), 0, cell.y(), gy)};
-    entries += (span[i][1] - span[i][0] + 1) * (span[i][3] - span[i][2] + 1);
-  }
-  // Edges long beside the cells, and slanted, cover many cells each, and then each cell
-  // holds many edges: a star of 50,000 thin spikes put about 100 edges into each of
-  // its cells, a million pairs a cell, and took seconds (200,000 spikes, minutes). Such
-  // a polygon is swept instead (O(k log k), whatever the shape); the grid, which tests
-  // every pair that meets, stays for the others.
-  if (entries > kCellsPerEdge * k) {
-    const auto [i, j] = sweep_crossing(q, crossing);
-    return i < k ? found(i, j) : r;
-  }
-  std::vector<std::vector<std::size_t>> bins(gx * gy);
-  for (std::size_t i = 0; i < k; ++i)
-    for (std::size_t y = span[i][2]; y <= span[i][3]; ++y)
-      for (std::size_t x = span[i][0]; x <= span[i][1]; ++x) bins[y * gx + x].push_back(i);
-  for (std::size_t b = 0; b < bins.size(); ++b) {
-    const std::vector<std::size_t>& bin = bins[b];
-    poll_interrupt(b, 1024);
-    const std::size_t bx = b % gx, by = b / gx;
-    for (std::size_t s = 0; s < bin.size(); ++s)
-      for (std::size_t t = s + 1; t < bin.size(); ++t) {
-        const std::size_t i = bin[s], j = bin[t];
-        const Point common_lo = box_lo[i].cwiseMax(box_lo[j]);
-        const Point common_hi = box_hi[i].cwiseMin(box_hi[j]);
-        if ((common_lo.array() > common_hi.array()).any()) continue;
-        if (grid_cell(common_lo.x(), 0, cell.x(), gx) != bx ||
-            grid_cell(common_lo.y(), 0, cell.y(), gy) != by)
-          continue;
-        if (crossing(i, j)) return found(i, j);
-      }
+  if (ij.first < k) {
+    r.found = true;
+    r.what = fmt::format("edges {} and {} cross", std::min(ij.first, ij.second) + 1,
+                         std::max(ij.first, ij.second) + 1);
   }
   return r;
 }
