@@ -1,5 +1,6 @@
 // hrad: the command-line front end. Subcommands live in cmd_*.cpp (see commands.h).
 #include "experiments/commands.h"
+#include "experiments/openmp_spin.h"
 
 #include <fmt/format.h>
 
@@ -98,6 +99,7 @@ bool make_output_folder(const std::filesystem::path& out, bool& created) {
 
 int main(int argc, char** argv) {
   using namespace hrad::cli;
+  bound_openmp_spinning(argv);
   CommandContext ctx;
   ctx.argv.assign(argv, argv + argc);
 

@@ -34,6 +34,23 @@ TEST_F(Cli, HelpListsEverySubcommand) {
     EXPECT_TRUE(contains(r.out, sub)) << sub << "\n" << r.out;
 }
 
+// hrad runs with GOMP_SPINCOUNT=10000 (experiments/openmp_spin.h) unless the user set
+// GOMP_SPINCOUNT or OMP_WAIT_POLICY; libgomp shows what it runs with (OMP_DISPLAY_ENV).
+TEST_F(Cli, RunsWithABoundedOpenMpSpinUnlessTheUserChose) {
+  const auto spin = [&](const std::string& env) {
+    const Result r = hrad("--version", "OMP_DISPLAY_ENV=verbose " + env);
+    EXPECT_EQ(r.status, 0) << r.err;
+    // The last block is the one of the process that ran (after executing itself again).
+    const std::size_t at = r.err.rfind("GOMP_SPINCOUNT = '");
+    if (at == std::string::npos) return std::string("(not shown)\n") + r.err;
+    const std::size_t begin = at + 18;
+    return r.err.substr(begin, r.err.find('\'', begin) - begin);
+  };
+  EXPECT_EQ(spin("env -u GOMP_SPINCOUNT -u OMP_WAIT_POLICY -u LD_PRELOAD "), "10000");
+  EXPECT_EQ(spin("env -u OMP_WAIT_POLICY -u LD_PRELOAD GOMP_SPINCOUNT=7 "), "7");
+  EXPECT_EQ(spin("env -u GOMP_SPINCOUNT -u LD_PRELOAD OMP_WAIT_POLICY=passive "), "0");
+}
+
 TEST_F(Cli, SolveHelpMentionsEveryOption) {
   const Result r = hrad("solve --help");
   EXPECT_EQ(r.status, 0) << r.err;
