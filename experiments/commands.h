@@ -21,7 +21,7 @@
 
 namespace hrad::cli {
 
-/// hrad's version; the git revision comes from CMake (HRAD_GIT_REVISION).
+/// hrad's version; the git revision is taken at every build (experiments/git_revision.cmake).
 inline constexpr const char* kVersion = "0.1.0";
 
 struct CommandContext {

@@ -10,9 +10,7 @@
 #include <string_view>
 #include <system_error>
 
-#ifndef HRAD_GIT_REVISION
-#define HRAD_GIT_REVISION "unknown"
-#endif
+#include "hrad_git_revision.h"  // HRAD_GIT_REVISION, written at every build
 
 namespace hrad::cli {
 

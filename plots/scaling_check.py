@@ -13,7 +13,8 @@ scheduler's own one-thread time), with:
 Prints the same figures as a Markdown table. Writes scaling.pdf, .svg, .png (300 dpi)
 and scaling.caption.txt beside the CSV (or --out-dir, or --out PATH: PATH without its
 extension names them), in the common style of plots/common.py (--size, --caption-in-image).
-scaling.csv does not record hrad's revision; the caption says so.
+The caption names the revisions and hosts of the rows (columns `revision` and `host`;
+a CSV from before they were written says that it does not record them).
 Usage:
   scaling_check.py scaling.csv [--out scaling.png | --out-dir DIR] [--size page|column]
                    [--caption-in-image]
@@ -151,6 +152,10 @@ def main():
     # One legend for both panels (the same lines), above them.
     common.legend_above(fig, axes[1])
     scenes = sorted({r["scene"] for r in rows})
+    revisions = sorted({r.get("revision") or "" for r in rows} - {""})
+    hosts = sorted({r.get("host") or "" for r in rows} - {""})
+    made = (f"hrad {', '.join(revisions)} on {', '.join(hosts) or 'an unrecorded host'}."
+            if revisions else "hrad revision not recorded in scaling.csv.")
     args = [common.as_given(a.csv)]
     if a.out:
         args += ["--out", common.as_given(a.out)]
@@ -159,7 +164,7 @@ def main():
     text = common.Caption(
         "Scaling check: speed-up over one thread of the refinement and of the whole run "
         f"against threads, medians over repetitions; machine's limit from the hardware "
-        f"control. hrad revision not recorded in scaling.csv.\n"
+        f"control. {made}\n"
         f"Scenes: {', '.join(scenes)}.\n"
         f"Regenerate: tools/scaling-check.sh {n}\n"
         f"Redraw: {common.redraw_command(args=args)}")

@@ -12,7 +12,8 @@
 #     the guided default.
 #  4. builtin:cabin at 1 and N threads (default scheduler).
 # Each row of scaling.csv is one run: its kind, scene, scheduler, block size, threads,
-# repetition and the times read from its stats.json. scaling.png (plots/scaling_check.py)
+# repetition, the times read from its stats.json, the load average, hrad's revision and the
+# host. scaling.png (plots/scaling_check.py)
 # draws each scheduler's refinement and whole-run speed-up against threads with the
 # control's limit. The script prints the table as it goes and writes every row as soon
 # as its run ends, so a cut-off run still leaves what it measured.
@@ -35,13 +36,13 @@ if ! [[ "$N" =~ ^[0-9]+$ ]] || [ "$N" -lt 1 ]; then
 fi
 mkdir -p "$OUT/runs"
 CSV=$OUT/scaling.csv
-echo "kind,scene,scheduler,block_size,threads,rep,wall_s,refine_wall_s,propagate_wall_s,sweeps_s,prepare_s,lock_wait_scheduler_s,tasks,links,load_1m" >"$CSV"
+echo "kind,scene,scheduler,block_size,threads,rep,wall_s,refine_wall_s,propagate_wall_s,sweeps_s,prepare_s,lock_wait_scheduler_s,tasks,links,load_1m,revision,host" >"$CSV"
 PY=${HRAD_PYTHON:-python3}
 
 # Appends one row from a run folder's stats.json.
 row() { # kind scene scheduler block threads rep dir
   "$PY" - "$@" >>"$CSV" <<'EOF'
-import json, os, sys
+import json, os, socket, sys
 kind, scene, sched, block, threads, rep, d = sys.argv[1:8]
 s = json.load(open(os.path.join(d, "stats.json")))
 t = s["totals"]
@@ -50,7 +51,7 @@ tasks = sum(i["tasks"] for i in s["iterations"])
 load = os.getloadavg()[0]
 print(f"{kind},{scene},{sched},{block},{threads},{rep},{t['wall_s']:.4f},{t['refine_wall_s']:.4f},"
       f"{t['propagate_wall_s']:.4f},{t['sweeps_s']:.4f},{t['prepare_s']:.4f},{lock:.4f},"
-      f"{tasks},{t['links']},{load:.2f}")
+      f"{tasks},{t['links']},{load:.2f},{s['hrad']['git_revision']},{socket.gethostname()}")
 EOF
   tail -1 "$CSV" >&2
 }

@@ -135,10 +135,10 @@ Rest cut_chain(std::vector<ChainLink>& chain, bool any_light, const Rgb& w) {
 // form factors from each child's centre to the sources of the links of P's surface
 // chain (P and its surface ancestors up to its input polygon), times the links'
 // visibility, and for `light` the sources' radiosity (all channels, times the channel
-// weights; the geometric
-// weights when every source is dark), each set normalised to an open-area mean of 1
-// over the children (which also takes out the difference between the centre values and
-// the links' own quadrature on average). A chain without links leaves both at 1.
+// weights `w`; the geometric weights when every source is dark), each set normalised to
+// an open-area mean of 1 over the children (which also takes out the difference between
+// the centre values and the links' own quadrature on average). A chain without links
+// leaves both at 1.
 std::uint64_t weigh_children(const Element& p, const Transport& transport, bool any_light,
                              const Rgb& w, PushVisibility mode, std::vector<ChainLink>& chain,
                              const PushWeights::ChildVisibility* old,
