@@ -382,7 +382,7 @@ constexpr std::size_t kTaskHeadroom = 8;
 }  // namespace
 
 void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements, int threads,
-                           TaskList& tasks) {
+                           TaskList& tasks, const Rgb& channel_weight) {
   // Each element's tasks go to a fixed place (a prefix sum of the link counts), so
   // the list is the same whatever the thread count, and is filled in parallel.
   // The counts are read in parallel (each element's line is a cache miss), the prefix
@@ -414,7 +414,8 @@ void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& el
       t->form_factor = l.form_factor;
       t->visibility = static_cast<float>(l.visibility());
       t->decided_q = l.decided_q;
-      t->priority = static_cast<float>(reflected_power_scale(*e, *l.source) * l.form_factor);
+      t->priority = static_cast<float>(reflected_power_scale(*e, *l.source, channel_weight) *
+                                       l.form_factor);
       t->evaluated = true;
       ++t;
     }

@@ -157,9 +157,10 @@ class Refiner {
   /// carry their F and visibility. Built on `threads` threads, in the same order for
   /// any thread count: elements in the given order, each one's links in list order.
   /// `tasks` is resized to the link count and overwritten: pass the previous
-  /// iteration's vector, so that its memory (and its pages) are reused.
+  /// iteration's vector, so that its memory (and its pages) are reused. A task's
+  /// priority is its link's reflected power with the oracles' `channel_weight`.
   static void reload_links(Hierarchy& hierarchy, const std::vector<Element*>& elements, int threads,
-                           TaskList& tasks);
+                           TaskList& tasks, const Rgb& channel_weight = Rgb::Ones());
 
  private:
   struct Worker;

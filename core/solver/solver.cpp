@@ -346,7 +346,7 @@ RunStats Solver::run() {
     }
     if (it < o.iterations) {
       const auto reload_start = Clock::now();
-      Refiner::reload_links(m.hierarchy, elements, o.threads, r.tasks);
+      Refiner::reload_links(m.hierarchy, elements, o.threads, r.tasks, m.channel_weight);
       r.reload_s = seconds_since(reload_start);
     }
   }
