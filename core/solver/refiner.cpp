@@ -414,8 +414,8 @@ void Refiner::reload_links(Hierarchy& hierarchy, const std::vector<Element*>& el
       t->form_factor = l.form_factor;
       t->visibility = static_cast<float>(l.visibility());
       t->decided_q = l.decided_q;
-      t->priority = static_cast<float>(reflected_power_scale(*e, *l.source, channel_weight) *
-                                       l.form_factor);
+      t->priority =
+          static_cast<float>(reflected_power_scale(*e, *l.source, channel_weight) * l.form_factor);
       t->evaluated = true;
       ++t;
     }
