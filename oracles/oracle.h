@@ -36,7 +36,7 @@ struct OracleThresholds {
   /// The scene's emitted power over its total area (W per unit area): the scale a
   /// receiver's own irradiance is compared with (receiver_threshold). 0: not used.
   double mean_irradiance = 0;
-  /// Each colour channel's weight in the oracles' comparisons (kChannelWeights): the
+  /// Each colour channel's weight in the oracles' comparisons (channel_weights): the
   /// strongest channel's emitted power over this channel's, so that every channel's
   /// error is judged against its own light. All 1 under grey (or no) emission.
   Rgb channel_weight = Rgb::Ones();
@@ -86,9 +86,9 @@ inline constexpr double kMaxChannelWeight = 100;
 /// powers are equal (grey light) or nothing emits. The threshold eps x emitted power
 /// bounds the power a link may get wrong, and the largest channel decides; where the
 /// light is coloured, a weak channel's errors were never what decided. In the measured
-/// Cornell box (light 18.2 / 11.1 / 1.66 per channel) the worst of 48 random probes was
-/// the blue channel 6 mm above the floor at the tall block's foot, +25.7 % against the
-/// path tracer (its red +7.2 %); eps 2.5e-5 took it only to +14.8 %.
+/// Cornell box (light 18.2 / 11.1 / 1.66 per channel) the least accurate probes were
+/// blue; with the weights the medians of two sets of 48 random probes went 1.51 -> 1.25 %
+/// and 1.38 -> 0.91 % for 6 % more links (docs/accuracy.md, "Coloured light").
 Rgb channel_weights(const Rgb& power);
 
 /// A link with a cluster at either end whose visibility rays were not all unblocked
@@ -127,8 +127,8 @@ double occlusion_weight(const LinkEstimate& link, double weight = kOccludedClust
 /// gain. Uniformly lit scenes (a furnace) are unchanged.
 constexpr double kDarkThresholdFloor = 0.25;
 /// t.eps_power, scaled for a dark receiver as above (each channel's irradiance times its
-/// channel weight), with `floor` in place of
-/// kDarkThresholdFloor when an oracle's parameter says so (1: never tightened).
+/// channel weight), with `floor` in place of kDarkThresholdFloor when an oracle's
+/// parameter says so (1: never tightened).
 double receiver_threshold(const LinkEstimate& link, const OracleThresholds& t,
                           double floor = kDarkThresholdFloor);
 

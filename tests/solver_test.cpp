@@ -401,9 +401,9 @@ TEST(SolverHardCases, ScaleInvariance) {
 // two refines the same links as the grey light, and the solution's channels scale by
 // those factors (the propagation stops on the largest channel's change relative to the
 // brightest radiosity, so a channel dimmed eightfold converges to about eight times
-// gather_tolerance of the brightest radiosity). Unweighted,
-// red and green lost their say to blue (the red wall reflects 0.63 of a red now an
-// eighth as bright): 39,057 links against 47,698.
+// gather_tolerance of the brightest radiosity). Unweighted, red and green lost their say
+// to blue (the red wall reflects 0.63 of a red now an eighth as bright): 39,057 links
+// against 47,698.
 TEST(SolverColour, DimmingAChannelOfTheLightRefinesTheSameLinks) {
   SolverOptions o;
   o.iterations = 2;
