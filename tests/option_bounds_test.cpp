@@ -93,6 +93,9 @@ TEST_F(OptionBounds, IntegersInExponentFormAreRangeChecked) {
   refused("solve builtin:cornell --set threads=-1e12 --out run",
           "option threads = -1e12 is out of range: it must be between 1 and 1024");
   refused("solve builtin:cornell --set seed=1e30 --out run", "option seed = 1e30 is out of range");
+  // (and a word that is no number is named with the right article)
+  refused("solve builtin:cornell --set seed=abc --out run",
+          "option 'seed' expects an unsigned integer, got 'abc'");
   refused("solve builtin:cornell --set threads=2.5 --out run", "expects an integer, got '2.5'");
   write("t.json", R"({"threads": 1e10})");
   refused("solve builtin:cornell --config t.json --out run", "t.json: option threads = ");

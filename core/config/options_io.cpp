@@ -345,8 +345,11 @@ std::string expected(const Row& r) {
   if constexpr (kIsMode<T>)
     return fmt::format("one of {}", enum_name_list<T>());
   else
-    return fmt::format("{} {}", type_of(r.member) == OptionType::Int ? "an" : "a",
-                       option_type_name(type_of(r.member)));
+    return fmt::format(
+        "{} {}",
+        type_of(r.member) == OptionType::Int || type_of(r.member) == OptionType::UInt64 ? "an"
+                                                                                        : "a",
+        option_type_name(type_of(r.member)));
 }
 
 /// A field's value as JSON (a mode by its name).
