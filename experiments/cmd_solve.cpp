@@ -94,6 +94,34 @@ struct Failure {
   std::string message;
 };
 
+/// With no SCENE: the scene of an earlier run whose stats.json is the --config, by its
+/// absolute path (stats.json "scene.path") while that file exists, else as the run named
+/// it ("scene.source", a built-in scene or a path from the run's folder); "" when the
+/// config is none or not a stats.json (then SCENE is missing). A config that cannot be
+/// read gives "": resolve_options says what is wrong with it.
+std::string scene_of_stats_config(const std::string& config) {
+  if (config.empty()) return "";
+  try {
+    check_input_file(config, "the config file");
+    std::ifstream in(config);
+    std::stringstream text;
+    text << in.rdbuf();
+    const auto doc = parse_json_document<nlohmann::json>(text.str(), config, /*comments=*/true);
+    if (!doc.is_object() || !doc.contains("totals") || !doc.contains("scene") ||
+        !doc["scene"].is_object())
+      return "";
+    const nlohmann::json& sc = doc["scene"];
+    if (sc.contains("path") && sc["path"].is_string()) {
+      const auto path = sc["path"].get<std::string>();
+      std::error_code ec;
+      if (fs::is_regular_file(path, ec)) return path;
+    }
+    if (sc.contains("source") && sc["source"].is_string()) return sc["source"].get<std::string>();
+  } catch (const std::exception&) {
+  }
+  return "";
+}
+
 /// Resolves the options; `camera_from` says who set the camera key last: "config",
 /// "option" (--camera or --set camera=...) or "" (nobody).
 SolverOptions resolve_options(const SolveArgs& a, std::string& camera_from) {
@@ -485,8 +513,8 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
       "solve", "Solve one scene and write stats.json, solution.ply and render.png.");
   sub->add_option("SCENE", args->scene,
                   "Scene to solve: FILE.obj (with its .mtl), FILE.mgf, or builtin:NAME[,k=v,...] "
-                  "(see 'hrad scenes')")
-      ->required();
+                  "(see 'hrad scenes'); may be left out when --config is an earlier run's "
+                  "stats.json, whose scene is then solved again");
 
   const SolverOptions defaults;
   for (const OptionFlag& f : kOptionFlags) {
@@ -544,6 +572,8 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
                 "No progress line and no summary (warnings and errors are still printed)");
 
   sub->callback([args, &ctx] {
+    if (args->scene.empty()) args->scene = scene_of_stats_config(args->config);
+    if (args->scene.empty()) throw CLI::RequiredError("SCENE");
     install_interrupt_handlers();  // stops at a safe point (core/base/interrupt.h)
     ctx.status = run_solve(*args, ctx);
   });

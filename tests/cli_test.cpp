@@ -123,6 +123,20 @@ TEST_F(Cli, FirstHourTraps) {
   ASSERT_EQ(r.status, 0) << r.err;
   const auto again = nlohmann::json::parse(read_text(dir_ / "again" / "stats.json"));
   EXPECT_EQ(again["config"], first["config"]);
+  // Without SCENE, the stats.json's own scene: the same run again.
+  r = hrad("solve --config first/stats.json -o third --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto third = nlohmann::json::parse(read_text(dir_ / "third" / "stats.json"));
+  EXPECT_EQ(third["scene"]["source"], "builtin:cornell");
+  EXPECT_TRUE(third["scene"]["path"].is_null());
+  EXPECT_EQ(third["config"], first["config"]);
+  EXPECT_EQ(third["totals"]["links"], first["totals"]["links"]);
+  // A config that is no stats.json does not name a scene.
+  write("plain.json", R"({"eps": 1e-3})");
+  r = hrad("solve --config plain.json -o none --quiet");
+  EXPECT_NE(r.status, 0);
+  EXPECT_TRUE(contains(r.err, "hrad: solve: SCENE is missing")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "none"));
 
   // The automatic camera with only its up axis given.
   r = hrad("solve builtin:cornell --camera up=1,0,0 -o up --quiet");
@@ -130,6 +144,31 @@ TEST_F(Cli, FirstHourTraps) {
   const auto up = nlohmann::json::parse(read_text(dir_ / "up" / "stats.json"));
   EXPECT_EQ(up["camera"]["source"], "automatic");
   EXPECT_EQ(up["camera"]["up"], nlohmann::json::array({1.0, 0.0, 0.0}));
+}
+
+// `hrad solve --config RUN/stats.json` with no SCENE solves that run's scene again, from
+// any folder: stats.json keeps the scene file's absolute path beside its name as given.
+TEST_F(Cli, AStatsJsonAloneRunsItsSceneAgain) {
+  fs::create_directories(dir_ / "scenes");
+  fs::create_directories(dir_ / "elsewhere");
+  write("scenes/box.obj",
+        "mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\n"
+        "v 0 1 1\nusemtl wall\nf 1 2 3 4\nf 5 8 7 6\nf 1 5 6 2\nf 2 6 7 3\nf 3 7 8 4\n"
+        "usemtl light\nf 1 4 8 5\n");
+  write("scenes/box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
+  Result r = hrad("solve scenes/box.obj -o first --set eps=1e-3 --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto first = nlohmann::json::parse(read_text(dir_ / "first" / "stats.json"));
+  EXPECT_EQ(first["scene"]["source"], "scenes/box.obj");
+  // (the same file, whatever symbolic links the temporary folder's path holds)
+  EXPECT_EQ(fs::canonical(first["scene"]["path"].get<std::string>()),
+            fs::canonical(dir_ / "scenes" / "box.obj"));
+  r = hrad("solve --config ../first/stats.json -o again --quiet", "cd elsewhere && ");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto again = nlohmann::json::parse(read_text(dir_ / "elsewhere" / "again" / "stats.json"));
+  EXPECT_EQ(again["scene"]["path"], first["scene"]["path"]);
+  EXPECT_EQ(again["config"], first["config"]);
+  EXPECT_EQ(again["totals"]["links"], first["totals"]["links"]);
 }
 
 // Command-line errors in hrad's words, naming the option, none of CLI11's wording

@@ -5,7 +5,9 @@
 #include "core/scene/camera_spec.h"
 
 #include <cmath>
+#include <filesystem>
 #include <ostream>
+#include <system_error>
 
 namespace hrad {
 namespace {
@@ -96,6 +98,20 @@ nlohmann::json stats_to_json(const RunStats& stats) {
   };
 }
 
+namespace {
+
+// The absolute path of a scene file (null for a built-in scene), so that a later
+// `hrad solve --config stats.json` finds it from any folder.
+nlohmann::json scene_path(const std::string& source) {
+  if (source.empty() || source.rfind("builtin:", 0) == 0) return nullptr;
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::absolute(source, ec);
+  if (ec) return nullptr;
+  return p.lexically_normal().string();
+}
+
+}  // namespace
+
 nlohmann::json scene_summary_json(const Scene& scene) {
   const Rgb power = scene.emitted_power();
   const Aabb b = scene.bounds();
@@ -104,6 +120,7 @@ nlohmann::json scene_summary_json(const Scene& scene) {
   return {
       {"name", scene.name},
       {"source", scene.source},
+      {"path", scene_path(scene.source)},
       {"polygons", scene.polygon_count()},
       {"vertices", scene.vertices.size()},
       {"materials", scene.materials.size()},
