@@ -97,28 +97,26 @@ struct Failure {
 /// With no SCENE: the scene of an earlier run whose stats.json is the --config, by its
 /// absolute path (stats.json "scene.path") while that file exists, else as the run named
 /// it ("scene.source", a built-in scene or a path from the run's folder); "" when the
-/// config is none or not a stats.json (then SCENE is missing). A config that cannot be
-/// read gives "": resolve_options says what is wrong with it.
+/// config is none or not a stats.json (then SCENE is missing). Throws for a config that
+/// cannot be read, with what is wrong with it.
 std::string scene_of_stats_config(const std::string& config) {
   if (config.empty()) return "";
-  try {
-    check_input_file(config, "the config file");
-    std::ifstream in(config);
-    std::stringstream text;
-    text << in.rdbuf();
-    const auto doc = parse_json_document<nlohmann::json>(text.str(), config, /*comments=*/true);
-    if (!doc.is_object() || !doc.contains("totals") || !doc.contains("scene") ||
-        !doc["scene"].is_object())
-      return "";
-    const nlohmann::json& sc = doc["scene"];
-    if (sc.contains("path") && sc["path"].is_string()) {
-      const auto path = sc["path"].get<std::string>();
-      std::error_code ec;
-      if (fs::is_regular_file(path, ec)) return path;
-    }
-    if (sc.contains("source") && sc["source"].is_string()) return sc["source"].get<std::string>();
-  } catch (const std::exception&) {
+  check_input_file(config, "the config file");
+  std::ifstream in(config);
+  if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the config file", config));
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto doc = parse_json_document<nlohmann::json>(text.str(), config, /*comments=*/true);
+  if (!doc.is_object() || !doc.contains("totals") || !doc.contains("scene") ||
+      !doc["scene"].is_object())
+    return "";
+  const nlohmann::json& sc = doc["scene"];
+  if (sc.contains("path") && sc["path"].is_string()) {
+    const auto path = sc["path"].get<std::string>();
+    std::error_code ec;
+    if (fs::is_regular_file(path, ec)) return path;
   }
+  if (sc.contains("source") && sc["source"].is_string()) return sc["source"].get<std::string>();
   return "";
 }
 
@@ -572,7 +570,15 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
                 "No progress line and no summary (warnings and errors are still printed)");
 
   sub->callback([args, &ctx] {
-    if (args->scene.empty()) args->scene = scene_of_stats_config(args->config);
+    if (args->scene.empty()) {
+      try {
+        args->scene = scene_of_stats_config(args->config);
+      } catch (const std::exception& e) {  // the config cannot be read: say why
+        print_error(e.what());
+        ctx.status = 1;
+        return;
+      }
+    }
     if (args->scene.empty()) throw CLI::RequiredError("SCENE");
     install_interrupt_handlers();  // stops at a safe point (core/base/interrupt.h)
     ctx.status = run_solve(*args, ctx);

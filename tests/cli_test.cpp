@@ -137,6 +137,11 @@ TEST_F(Cli, FirstHourTraps) {
   EXPECT_NE(r.status, 0);
   EXPECT_TRUE(contains(r.err, "hrad: solve: SCENE is missing")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "none"));
+  // One that cannot be read says why, not that SCENE is missing.
+  refused("solve --config /dev/zero -o none --quiet",
+          "/dev/zero: the config file is not a regular file");
+  write("broken.json", "{\"totals\": ");
+  refused("solve --config broken.json -o none --quiet", "broken.json:");
 
   // The automatic camera with only its up axis given.
   r = hrad("solve builtin:cornell --camera up=1,0,0 -o up --quiet");
