@@ -85,10 +85,14 @@ struct SolveArgs {
   std::string camera, view;  ///< --camera SPEC, --view FILE
   CLI::Option* camera_option = nullptr;
   std::vector<std::string> sets;
+  std::vector<long long> explain;  ///< --explain-probe N (repeatable)
   bool quiet = false;
   std::map<std::string, std::string> flag_values;  ///< key -> text, for flags given
   std::map<std::string, CLI::Option*> flag_options;
 };
+
+// Leaves, and links per element, that --explain-probe lists.
+constexpr int kExplainTop = 12;
 
 struct Failure {
   std::string message;
@@ -339,6 +343,15 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
         throw std::invalid_argument(
             fmt::format("{}: holds no probe (only comments or blank lines)", a.probes));
     }
+    for (const long long n : a.explain) {
+      if (a.probes.empty())
+        throw std::invalid_argument(
+            fmt::format("--explain-probe {}: needs --probes FILE (it explains one of them)", n));
+      if (n < 0 || static_cast<std::size_t>(n) >= probes.size())
+        throw std::invalid_argument(
+            fmt::format("--explain-probe {}: {} holds probes 0..{} (counted from 0)", n, a.probes,
+                        probes.size() - 1));
+    }
     camera = choose_camera(a, options, camera_from, scene);
     if (camera.up_axis >= 0) scene.declared_up = camera.up_axis;
     if (!scene.warnings.empty()) progress->finish();  // warnings start on a clean line
@@ -440,6 +453,13 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
         write_probes_csv(out / "probes.csv", probes, e);
         outputs["probes"] = "probes.csv";
         written.push_back("probes.csv");
+        for (const long long n : a.explain) {
+          const auto i = static_cast<std::size_t>(n);
+          const std::string name = fmt::format("explain-probe-{}.json", i);
+          write_json_atomically(out / name, solver->explain_probe(i, probes[i], kExplainTop));
+          outputs["explain"].push_back(name);
+          written.push_back(name);
+        }
       }
     } catch (const Interrupted&) {
       throw;
@@ -530,6 +550,12 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
                   "Irradiance probes: a text file with one 'x y z nx ny nz' per line (scene "
                   "units); writes probes.csv [default: none]")
       ->type_name("FILE");
+  sub->add_option("--explain-probe", args->explain,
+                  fmt::format("Write explain-probe-N.json: where probe N (of --probes, counted "
+                              "from 0) gets its irradiance, its {} strongest leaves and the "
+                              "links of every element above the strongest; repeatable",
+                              kExplainTop))
+      ->type_name("N");
   sub->add_option("--image", args->image,
                   "Write the rendered image to FILE instead of DIR/render.png (PNG; missing "
                   "folders are created)")

@@ -15,8 +15,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -344,6 +346,57 @@ TEST_F(Cli, ProbesAndImageElsewhere) {
   const nlohmann::json j = nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"));
   EXPECT_EQ(j["outputs"]["image"], "pics/cornell.png");
   EXPECT_EQ(j["outputs"]["probes"], "probes.csv");
+}
+
+// --explain-probe N takes probe N's final gather apart: its total is probes.csv's value,
+// its leaves come strongest first, and the strongest one's chain runs up to the root.
+TEST_F(Cli, ExplainProbeTakesTheFinalGatherApart) {
+  write("p.txt", "2.78 0.01 2.79 0 1 0\n2.78 5.4 2.79 0 -1 0\n");
+  refused("solve builtin:cornell --explain-probe 0 --out run", "--explain-probe 0: needs --probes");
+  refused("solve builtin:cornell --probes p.txt --explain-probe 2 --out run",
+          "--explain-probe 2: p.txt holds probes 0..1");
+  const Result r = hrad("solve builtin:cornell --probes p.txt --explain-probe 1 --out run --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json stats = nlohmann::json::parse(read_text(dir_ / "run" / "stats.json"));
+  EXPECT_EQ(stats["outputs"]["explain"], nlohmann::json::array({"explain-probe-1.json"}));
+  const nlohmann::json x = nlohmann::json::parse(read_text(dir_ / "run" / "explain-probe-1.json"));
+  EXPECT_EQ(x["probe"], 1);
+  EXPECT_FALSE(x["closed_in"].get<bool>());
+  // The total is the probe's irradiance in probes.csv (written with 9 digits).
+  std::istringstream csv(read_text(dir_ / "run" / "probes.csv"));
+  std::string line;
+  for (int k = 0; k < 3; ++k) std::getline(csv, line);  // header, probe 0, probe 1
+  std::vector<double> fields;
+  std::istringstream row(line);
+  for (std::string f; std::getline(row, f, ',');) fields.push_back(std::stod(f));
+  ASSERT_EQ(fields.size(), 9u);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(x["irradiance"][c].get<double>(), fields[6 + static_cast<std::size_t>(c)],
+                1e-8 * fields[6 + static_cast<std::size_t>(c)]);
+  // Leaves strongest first, each F x V x B of its own numbers.
+  const auto& leaves = x["strongest_leaves"];
+  ASSERT_GE(leaves.size(), 2u);
+  double last = std::numeric_limits<double>::infinity();
+  for (const auto& l : leaves) {
+    double mean = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double e = l["irradiance"][c].get<double>();
+      EXPECT_NEAR(e,
+                  l["form_factor"].get<double>() * l["visibility"].get<double>() *
+                      l["radiosity"][c].get<double>(),
+                  1e-12 + 1e-9 * e);
+      mean += e / 3;
+    }
+    EXPECT_LE(mean, last);
+    last = mean;
+  }
+  // The chain: the strongest leaf first, the root cluster last.
+  const auto& chain = x["strongest_leaf_chain"];
+  ASSERT_GE(chain.size(), 2u);
+  EXPECT_EQ(chain.front()["area"], leaves.front()["area"]);
+  EXPECT_EQ(chain.front()["kind"], "surface");
+  EXPECT_EQ(chain.back()["kind"], "cluster");
+  EXPECT_EQ(chain.back()["depth"], 0);
 }
 
 TEST_F(Cli, FailedWriteIsReportedInStatsAndExitStatus) {

@@ -84,6 +84,65 @@ std::vector<const Element*> leaf_surfaces(const Element& root) {
   return leaves;
 }
 
+// What the leaf s gives probe i (point p, unit normal n) in the final gather: the exact
+// point-to-polygon form factor and the kernel-weighted visibility from k rays whose random
+// numbers hash the probe index and the element id (f = 0: nothing).
+struct ProbeView {
+  double form_factor = 0, visibility = 0;
+};
+ProbeView probe_view(const Transport& transport, const Probe& pr, std::size_t i, const Element& s,
+                     int k) {
+  if ((s.B <= 0).all()) return {};
+  const double f = point_to_polygon_ff(pr.p, pr.n, s.corners());
+  if (f <= 0) return {};
+  const std::uint64_t key = child_id(s.id, static_cast<std::uint32_t>(i) ^ 0x5EEDu);
+  return {f, transport.visibility_from_point(pr.p, pr.n, s, key, k)};
+}
+
+nlohmann::json rgb_json(const Rgb& c) { return nlohmann::json::array({c[0], c[1], c[2]}); }
+nlohmann::json vec_json(const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); }
+
+// One element of the chain above a leaf, for Solver::explain_probe: what it is and holds,
+// and its `top` strongest links by transport x source radiosity (channel mean).
+nlohmann::json chain_level_json(const Element& a, int top) {
+  std::vector<const Link*> links;
+  for (const Link& l : a.links) links.push_back(&l);
+  const auto strength = [](const Link* l) { return l->transport() * l->source->B.mean(); };
+  std::sort(links.begin(), links.end(), [&](const Link* x, const Link* y) {
+    return strength(x) != strength(y) ? strength(x) > strength(y) : x->source->id < y->source->id;
+  });
+  Rgb total = Rgb::Zero();
+  for (const Link* l : links) total += l->transport() * l->source->B;
+  nlohmann::json strongest = nlohmann::json::array();
+  for (std::size_t q = 0; q < std::min(links.size(), static_cast<std::size_t>(top)); ++q) {
+    const Link& l = *links[q];
+    const Element& so = *l.source;
+    nlohmann::json source = {{"kind", so.is_cluster() ? "cluster" : "surface"}};
+    if (so.is_cluster())
+      source["polygons"] = so.face_end - so.face;
+    else
+      source["face"] = so.face;
+    strongest.push_back({{"source", std::move(source)},
+                         {"area", so.area},
+                         {"centre", vec_json(so.center)},
+                         {"radiosity", rgb_json(so.B)},
+                         {"form_factor", l.form_factor},
+                         {"visibility", l.visibility()},
+                         {"irradiance", rgb_json(l.transport() * so.B)}});
+  }
+  return {{"kind", a.is_cluster() ? "cluster" : "surface"},
+          {a.is_cluster() ? "polygons" : "face", a.is_cluster() ? a.face_end - a.face : a.face},
+          {"depth", a.depth},
+          {"area", a.area},
+          {"open", open_weight(a)},
+          {"push_weight", a.push_weight},
+          {"cluster_weight", a.cluster_weight},
+          {"radiosity", rgb_json(a.B)},
+          {"links", links.size()},
+          {"links_irradiance", rgb_json(total)},
+          {"strongest_links", std::move(strongest)}};
+}
+
 // The cluster tree is built by the calling thread into refiner 0's arena, so the
 // thread is bound as refiner 0 while it builds: under first-touch the tree's pages then
 // land on refiner 0's node, where the arena counts them.
@@ -212,6 +271,13 @@ struct Solver::Impl {
   void watch_min_area(RunState& r, const IterationStats& is, bool last, RunStats& stats) const;
   RefineCounters refine(RunState& r, int it, IterationStats& is);
   std::vector<Element*> prepare_propagation(IterationStats& is);
+  /// Whether probe i sees nothing but the black inside of a solid (closed in by a
+  /// contact; core/transport/open_fraction.h, point_closed_in): its irradiance is 0.
+  [[nodiscard]] bool probe_closed_in(const Probe& pr, std::size_t i) const {
+    return effects.visibility.on &&
+           point_closed_in(pr.p, pr.n, hierarchy, rays,
+                           child_id(static_cast<std::uint64_t>(i), 0xC105EDu) ^ options.seed);
+  }
   void propagate_links(RunState& r, int it, bool last, std::vector<Element*>& elements,
                        IterationStats& is);
   void count_links(int it, const std::vector<Element*>& elements, IterationStats& is,
@@ -712,24 +778,70 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
     if (progress && omp_get_thread_num() == 0)
       progress(fmt::format("probes: {} of {}", finished, n), static_cast<double>(finished) / n);
     const Probe& pr = probes[static_cast<std::size_t>(i)];
-    // A point that sees nothing but the black inside of a solid (closed in by a
-    // contact; core/transport/open_fraction.h, point_closed_in) gets 0.
-    if (m.effects.visibility.on &&
-        point_closed_in(pr.p, pr.n, m.hierarchy, m.rays,
-                        child_id(static_cast<std::uint64_t>(i), 0xC105EDu) ^ m.options.seed))
-      continue;
+    if (m.probe_closed_in(pr, static_cast<std::size_t>(i))) continue;
     Rgb sum = Rgb::Zero();
     for (const Element* s : leaves) {
-      if ((s->B <= 0).all()) continue;
-      const double f = point_to_polygon_ff(pr.p, pr.n, s->corners());
-      if (f <= 0) continue;
-      const std::uint64_t key = child_id(s->id, static_cast<std::uint32_t>(i) ^ 0x5EEDu);
-      const double v = m.transport.visibility_from_point(pr.p, pr.n, *s, key, k);
-      sum += f * v * s->B;
+      const ProbeView g = probe_view(m.transport, pr, static_cast<std::size_t>(i), *s, k);
+      if (g.form_factor <= 0) continue;
+      sum += g.form_factor * g.visibility * s->B;
     }
     out[static_cast<std::size_t>(i)] = sum;
   }
   throw_if_interrupted();
+  return out;
+}
+
+nlohmann::json Solver::explain_probe(std::size_t i, const Probe& pr, int top) const {
+  const Impl& m = *impl_;
+  nlohmann::json out = {{"probe", i}, {"point", vec_json(pr.p)}, {"normal", vec_json(pr.n)}};
+  if (m.probe_closed_in(pr, i)) {
+    out["closed_in"] = true;
+    out["irradiance"] = rgb_json(Rgb::Zero());
+    return out;
+  }
+  out["closed_in"] = false;
+  // The same final gather as probe_irradiance, leaf by leaf.
+  const int k = std::max(m.options.visibility_rays, 8);
+  struct Part {
+    const Element* leaf;
+    ProbeView view;
+    Rgb irradiance;
+  };
+  std::vector<Part> parts;
+  Rgb sum = Rgb::Zero();
+  for (const Element* s : leaf_surfaces(m.hierarchy.root())) {
+    const ProbeView g = probe_view(m.transport, pr, i, *s, k);
+    if (g.form_factor <= 0) continue;
+    sum += g.form_factor * g.visibility * s->B;
+    if (g.visibility > 0) parts.push_back({s, g, g.form_factor * g.visibility * s->B});
+  }
+  std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) {
+    const double x = a.irradiance.mean(), y = b.irradiance.mean();
+    return x != y ? x > y : a.leaf->id < b.leaf->id;
+  });
+  out["irradiance"] = rgb_json(sum);
+  out["leaves_seen"] = parts.size();
+  nlohmann::json seen = nlohmann::json::array();
+  for (std::size_t q = 0; q < std::min(parts.size(), static_cast<std::size_t>(top)); ++q) {
+    const Element& s = *parts[q].leaf;
+    seen.push_back({{"face", s.face},
+                    {"depth", s.depth},
+                    {"area", s.area},
+                    {"centre", vec_json(s.center)},
+                    {"normal", vec_json(s.normal)},
+                    {"radiosity", rgb_json(s.B)},
+                    {"reflectance", rgb_json(s.rho)},
+                    {"form_factor", parts[q].view.form_factor},
+                    {"visibility", parts[q].view.visibility},
+                    {"irradiance", rgb_json(parts[q].irradiance)}});
+  }
+  out["strongest_leaves"] = std::move(seen);
+  // Where the strongest leaf's light comes from: it and every element above it.
+  nlohmann::json chain = nlohmann::json::array();
+  if (!parts.empty())
+    for (const Element* a = parts.front().leaf; a != nullptr; a = a->parent)
+      chain.push_back(chain_level_json(*a, top));
+  out["strongest_leaf_chain"] = std::move(chain);
   return out;
 }
 

@@ -11,6 +11,8 @@
 #include "core/scene/render_mesh.h"
 #include "core/scene/scene.h"
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -70,6 +72,13 @@ class Solver {
   /// `progress` (from one thread); throws Interrupted after an interrupt.
   [[nodiscard]] std::vector<Rgb> probe_irradiance(std::span<const Probe> probes,
                                                   const ProgressFn& progress = {}) const;
+
+  /// Where probe i's irradiance comes from (hrad solve --explain-probe): the same final
+  /// gather as probe_irradiance, as JSON: the total, the `top` leaves that give it most
+  /// (form factor, visibility, radiosity, share), and for the strongest of them every
+  /// element above it (surface pieces, then clusters) with its push and cluster weights
+  /// and its `top` strongest links. Read after run(). docs/results.md has the fields.
+  [[nodiscard]] nlohmann::json explain_probe(std::size_t i, const Probe& probe, int top) const;
 
  private:
   struct Impl;
