@@ -392,6 +392,16 @@ int run_solve(const SolveArgs& a, const CommandContext& ctx) {
     std::error_code ec;
     fs::remove(out / name, ec);
   }
+  {
+    std::error_code ec;
+    std::vector<fs::path> explained;
+    for (const auto& f : fs::directory_iterator(out, ec)) {
+      const std::string name = f.path().filename().string();
+      if (name.starts_with("explain-probe-") && name.ends_with(".json"))
+        explained.push_back(f.path());
+    }
+    for (const fs::path& f : explained) fs::remove(f, ec);
+  }
 
   // 5-6: run and write. stats.json comes last so that it lists what was written.
   std::vector<std::string> written;  // paths as given to the user
@@ -555,7 +565,8 @@ void register_solve(CLI::App& app, CommandContext& ctx) {
                               "from 0) gets its irradiance, its {} strongest leaves and the "
                               "links of every element above the strongest; repeatable",
                               kExplainTop))
-      ->type_name("N");
+      ->type_name("N")
+      ->transform(integer_in(0, std::uint64_t{1} << 32));
   sub->add_option("--image", args->image,
                   "Write the rendered image to FILE instead of DIR/render.png (PNG; missing "
                   "folders are created)")

@@ -397,6 +397,11 @@ TEST_F(Cli, ExplainProbeTakesTheFinalGatherApart) {
   EXPECT_EQ(chain.front()["kind"], "surface");
   EXPECT_EQ(chain.back()["kind"], "cluster");
   EXPECT_EQ(chain.back()["depth"], 0);
+  // A later run into the same folder does not leave the explanation behind.
+  ASSERT_EQ(hrad("solve builtin:cornell --probes p.txt --out run --quiet").status, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "run" / "explain-probe-1.json"));
+  refused("solve builtin:cornell --probes p.txt --explain-probe 99999999999999999999 --out x",
+          "--explain-probe: 99999999999999999999 is outside 0..4294967296");
 }
 
 TEST_F(Cli, FailedWriteIsReportedInStatsAndExitStatus) {
