@@ -397,6 +397,16 @@ TEST_F(Cli, ExplainProbeTakesTheFinalGatherApart) {
   EXPECT_EQ(chain.front()["kind"], "surface");
   EXPECT_EQ(chain.back()["kind"], "cluster");
   EXPECT_EQ(chain.back()["depth"], 0);
+  // A point on the floor under the short block sees only the block's inside.
+  write("under.txt", "1.855 0.001 1.69 0 1 0\n");
+  ASSERT_EQ(
+      hrad("solve builtin:cornell --probes under.txt --explain-probe 0 --out under --quiet").status,
+      0);
+  const nlohmann::json u =
+      nlohmann::json::parse(read_text(dir_ / "under" / "explain-probe-0.json"));
+  EXPECT_TRUE(u["closed_in"].get<bool>());
+  EXPECT_EQ(u["irradiance"], nlohmann::json::array({0.0, 0.0, 0.0}));
+  EXPECT_FALSE(u.contains("strongest_leaves"));
   // A later run into the same folder does not leave the explanation behind.
   ASSERT_EQ(hrad("solve builtin:cornell --probes p.txt --out run --quiet").status, 0);
   EXPECT_FALSE(fs::exists(dir_ / "run" / "explain-probe-1.json"));
