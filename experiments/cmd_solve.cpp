@@ -98,6 +98,17 @@ struct Failure {
   std::string message;
 };
 
+/// The --config file as JSON (comments allowed). Throws, naming the file, when it is not
+/// a regular file, cannot be opened or is not valid JSON.
+nlohmann::json read_config_document(const std::string& config) {
+  check_input_file(config, "the config file");
+  std::ifstream in(config);
+  if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the config file", config));
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_json_document<nlohmann::json>(text.str(), config, /*comments=*/true);
+}
+
 /// With no SCENE: the scene of an earlier run whose stats.json is the --config, by its
 /// absolute path (stats.json "scene.path") while that file exists, else as the run named
 /// it ("scene.source", a built-in scene or a path from the run's folder); "" when the
@@ -105,12 +116,7 @@ struct Failure {
 /// cannot be read, with what is wrong with it.
 std::string scene_of_stats_config(const std::string& config) {
   if (config.empty()) return "";
-  check_input_file(config, "the config file");
-  std::ifstream in(config);
-  if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the config file", config));
-  std::stringstream text;
-  text << in.rdbuf();
-  const auto doc = parse_json_document<nlohmann::json>(text.str(), config, /*comments=*/true);
+  const nlohmann::json doc = read_config_document(config);
   if (!doc.is_object() || !doc.contains("totals") || !doc.contains("scene") ||
       !doc["scene"].is_object())
     return "";
@@ -129,12 +135,7 @@ std::string scene_of_stats_config(const std::string& config) {
 SolverOptions resolve_options(const SolveArgs& a, std::string& camera_from) {
   SolverOptions o;
   if (!a.config.empty()) {
-    check_input_file(a.config, "the config file");
-    std::ifstream in(a.config);
-    if (!in) throw std::invalid_argument(fmt::format("{}: cannot open the config file", a.config));
-    std::stringstream text;
-    text << in.rdbuf();
-    const auto doc = parse_json_document<nlohmann::json>(text.str(), a.config, /*comments=*/true);
+    const nlohmann::json doc = read_config_document(a.config);
     // A solve's stats.json holds its complete configuration under "config": the run
     // again, with these flags on top.
     const bool stats = doc.is_object() && doc.contains("totals") && doc.contains("config") &&

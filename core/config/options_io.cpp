@@ -344,12 +344,11 @@ template <class T>
 std::string expected(const Row& r) {
   if constexpr (kIsMode<T>)
     return fmt::format("one of {}", enum_name_list<T>());
-  else
-    return fmt::format(
-        "{} {}",
-        type_of(r.member) == OptionType::Int || type_of(r.member) == OptionType::UInt64 ? "an"
-                                                                                        : "a",
-        option_type_name(type_of(r.member)));
+  else {
+    const OptionType t = type_of(r.member);
+    return fmt::format("{} {}", t == OptionType::Int || t == OptionType::UInt64 ? "an" : "a",
+                       option_type_name(t));
+  }
 }
 
 /// A field's value as JSON (a mode by its name).

@@ -27,8 +27,6 @@ nlohmann::json json_map(const std::map<std::string, V>& m) {
   return j;
 }
 
-nlohmann::json vec3(const Vec3& v) { return {number(v.x()), number(v.y()), number(v.z())}; }
-
 nlohmann::json refiners_json(const std::vector<RefinerStats>& refiners) {
   nlohmann::json out = nlohmann::json::array();
   for (const RefinerStats& r : refiners)
@@ -116,7 +114,7 @@ nlohmann::json scene_summary_json(const Scene& scene) {
   const Rgb power = scene.emitted_power();
   const Aabb b = scene.bounds();
   nlohmann::json bounds = nullptr;
-  if (!b.empty()) bounds = {{"lo", vec3(b.lo)}, {"hi", vec3(b.hi)}};
+  if (!b.empty()) bounds = {{"lo", json_vec3(b.lo)}, {"hi", json_vec3(b.hi)}};
   return {
       {"name", scene.name},
       {"source", scene.source},
@@ -126,7 +124,7 @@ nlohmann::json scene_summary_json(const Scene& scene) {
       {"materials", scene.materials.size()},
       {"emitters", scene.emitter_count()},
       {"total_area", number(scene.total_area())},
-      {"emitted_power", {number(power[0]), number(power[1]), number(power[2])}},
+      {"emitted_power", json_rgb(power)},
       {"bounds", std::move(bounds)},
       {"grey", scene.is_grey()},
       {"sides", scene.sides.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene.sides)},
@@ -141,13 +139,20 @@ nlohmann::json scene_summary_json(const Scene& scene) {
 
 nlohmann::json camera_json(const Camera& cam, const std::string& source,
                            const std::string& view_file) {
-  return {{"eye", vec3(cam.eye)},
-          {"look", vec3(cam.target)},
-          {"up", vec3(cam.up)},
+  return {{"eye", json_vec3(cam.eye)},
+          {"look", json_vec3(cam.target)},
+          {"up", json_vec3(cam.up)},
           {"fov", number(cam.fov_y_deg)},
           {"source", source},
           {"view_file", view_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(view_file)},
           {"spec", camera_spec_string(cam)}};
+}
+
+nlohmann::json json_vec3(const Vec3& v) {
+  return nlohmann::json::array({number(v.x()), number(v.y()), number(v.z())});
+}
+nlohmann::json json_rgb(const Rgb& c) {
+  return nlohmann::json::array({number(c[0]), number(c[1]), number(c[2])});
 }
 
 void write_json_atomically(const std::filesystem::path& path, const nlohmann::json& j) {

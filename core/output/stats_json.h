@@ -36,6 +36,10 @@ namespace hrad {
 [[nodiscard]] nlohmann::json camera_json(const Camera& cam, const std::string& source,
                                          const std::string& view_file = "");
 
+/// [x, y, z] and [r, g, b] as JSON arrays; a non-finite component is written as null.
+[[nodiscard]] nlohmann::json json_vec3(const Vec3& v);
+[[nodiscard]] nlohmann::json json_rgb(const Rgb& c);
+
 /// Writes `j` pretty-printed (2-space indent, trailing newline) to `path` atomically
 /// (core/base/atomic_file.h). Throws std::runtime_error naming the path on failure.
 void write_json_atomically(const std::filesystem::path& path, const nlohmann::json& j);

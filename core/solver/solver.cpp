@@ -6,6 +6,7 @@
 #include "core/config/effects.h"
 #include "core/config/options_io.h"
 #include "core/hierarchy/hierarchy.h"
+#include "core/output/stats_json.h"
 #include "core/parallel/lock_pool.h"
 #include "core/parallel/trace.h"
 #include "core/raycast/ray_scene.h"
@@ -99,9 +100,6 @@ ProbeView probe_view(const Transport& transport, const Probe& pr, std::size_t i,
   return {f, transport.visibility_from_point(pr.p, pr.n, s, key, k)};
 }
 
-nlohmann::json rgb_json(const Rgb& c) { return nlohmann::json::array({c[0], c[1], c[2]}); }
-nlohmann::json vec_json(const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); }
-
 // One element of the chain above a leaf, for Solver::explain_probe: what it is and holds,
 // and its `top` strongest links by transport x source radiosity (channel mean).
 nlohmann::json chain_level_json(const Element& a, int top) {
@@ -124,11 +122,11 @@ nlohmann::json chain_level_json(const Element& a, int top) {
       source["face"] = so.face;
     strongest.push_back({{"source", std::move(source)},
                          {"area", so.area},
-                         {"centre", vec_json(so.center)},
-                         {"radiosity", rgb_json(so.B)},
+                         {"centre", json_vec3(so.center)},
+                         {"radiosity", json_rgb(so.B)},
                          {"form_factor", l.form_factor},
                          {"visibility", l.visibility()},
-                         {"irradiance", rgb_json(l.transport() * so.B)}});
+                         {"irradiance", json_rgb(l.transport() * so.B)}});
   }
   return {{"kind", a.is_cluster() ? "cluster" : "surface"},
           {a.is_cluster() ? "polygons" : "face", a.is_cluster() ? a.face_end - a.face : a.face},
@@ -137,9 +135,9 @@ nlohmann::json chain_level_json(const Element& a, int top) {
           {"open", open_weight(a)},
           {"push_weight", a.push_weight},
           {"cluster_weight", a.cluster_weight},
-          {"radiosity", rgb_json(a.B)},
+          {"radiosity", json_rgb(a.B)},
           {"links", links.size()},
-          {"links_irradiance", rgb_json(total)},
+          {"links_irradiance", json_rgb(total)},
           {"strongest_links", std::move(strongest)}};
 }
 
@@ -277,6 +275,22 @@ struct Solver::Impl {
     return effects.visibility.on &&
            point_closed_in(pr.p, pr.n, hierarchy, rays,
                            child_id(static_cast<std::uint64_t>(i), 0xC105EDu) ^ options.seed);
+  }
+  /// The final gather at probe i (not closed in) over `leaves`: the sum of each leaf's
+  /// form factor x visibility x radiosity (probe_view); see(leaf, view) is called for
+  /// every leaf that gives the point light.
+  template <class See>
+  Rgb gather_probe(const Probe& pr, std::size_t i, const std::vector<const Element*>& leaves,
+                   const See& see) const {
+    const int k = std::max(options.visibility_rays, 8);
+    Rgb sum = Rgb::Zero();
+    for (const Element* s : leaves) {
+      const ProbeView g = probe_view(transport, pr, i, *s, k);
+      if (g.form_factor <= 0) continue;
+      sum += g.form_factor * g.visibility * s->B;
+      if (g.visibility > 0) see(*s, g);
+    }
+    return sum;
   }
   void propagate_links(RunState& r, int it, bool last, std::vector<Element*>& elements,
                        IterationStats& is);
@@ -766,7 +780,6 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
   // index and the element id; 0 at a point that sees nothing (point_closed_in).
   const Impl& m = *impl_;
   const std::vector<const Element*> leaves = leaf_surfaces(m.hierarchy.root());
-  const int k = std::max(m.options.visibility_rays, 8);
   std::vector<Rgb> out(probes.size(), Rgb::Zero());
   const auto n = static_cast<std::ptrdiff_t>(probes.size());
   std::atomic<std::ptrdiff_t> done{0};
@@ -778,14 +791,9 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
     if (progress && omp_get_thread_num() == 0)
       progress(fmt::format("probes: {} of {}", finished, n), static_cast<double>(finished) / n);
     const Probe& pr = probes[static_cast<std::size_t>(i)];
-    if (m.probe_closed_in(pr, static_cast<std::size_t>(i))) continue;
-    Rgb sum = Rgb::Zero();
-    for (const Element* s : leaves) {
-      const ProbeView g = probe_view(m.transport, pr, static_cast<std::size_t>(i), *s, k);
-      if (g.form_factor <= 0) continue;
-      sum += g.form_factor * g.visibility * s->B;
-    }
-    out[static_cast<std::size_t>(i)] = sum;
+    const auto at = static_cast<std::size_t>(i);
+    if (m.probe_closed_in(pr, at)) continue;
+    out[at] = m.gather_probe(pr, at, leaves, [](const Element&, const ProbeView&) {});
   }
   throw_if_interrupted();
   return out;
@@ -793,33 +801,29 @@ std::vector<Rgb> Solver::probe_irradiance(std::span<const Probe> probes,
 
 nlohmann::json Solver::explain_probe(std::size_t i, const Probe& pr, int top) const {
   const Impl& m = *impl_;
-  nlohmann::json out = {{"probe", i}, {"point", vec_json(pr.p)}, {"normal", vec_json(pr.n)}};
+  nlohmann::json out = {{"probe", i}, {"point", json_vec3(pr.p)}, {"normal", json_vec3(pr.n)}};
   if (m.probe_closed_in(pr, i)) {
     out["closed_in"] = true;
-    out["irradiance"] = rgb_json(Rgb::Zero());
+    out["irradiance"] = json_rgb(Rgb::Zero());
     return out;
   }
   out["closed_in"] = false;
   // The same final gather as probe_irradiance, leaf by leaf.
-  const int k = std::max(m.options.visibility_rays, 8);
   struct Part {
     const Element* leaf;
     ProbeView view;
     Rgb irradiance;
   };
   std::vector<Part> parts;
-  Rgb sum = Rgb::Zero();
-  for (const Element* s : leaf_surfaces(m.hierarchy.root())) {
-    const ProbeView g = probe_view(m.transport, pr, i, *s, k);
-    if (g.form_factor <= 0) continue;
-    sum += g.form_factor * g.visibility * s->B;
-    if (g.visibility > 0) parts.push_back({s, g, g.form_factor * g.visibility * s->B});
-  }
+  const Rgb sum = m.gather_probe(pr, i, leaf_surfaces(m.hierarchy.root()),
+                                 [&](const Element& s, const ProbeView& g) {
+                                   parts.push_back({&s, g, g.form_factor * g.visibility * s.B});
+                                 });
   std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) {
     const double x = a.irradiance.mean(), y = b.irradiance.mean();
     return x != y ? x > y : a.leaf->id < b.leaf->id;
   });
-  out["irradiance"] = rgb_json(sum);
+  out["irradiance"] = json_rgb(sum);
   out["leaves_seen"] = parts.size();
   nlohmann::json seen = nlohmann::json::array();
   for (std::size_t q = 0; q < std::min(parts.size(), static_cast<std::size_t>(top)); ++q) {
@@ -827,13 +831,13 @@ nlohmann::json Solver::explain_probe(std::size_t i, const Probe& pr, int top) co
     seen.push_back({{"face", s.face},
                     {"depth", s.depth},
                     {"area", s.area},
-                    {"centre", vec_json(s.center)},
-                    {"normal", vec_json(s.normal)},
-                    {"radiosity", rgb_json(s.B)},
-                    {"reflectance", rgb_json(s.rho)},
+                    {"centre", json_vec3(s.center)},
+                    {"normal", json_vec3(s.normal)},
+                    {"radiosity", json_rgb(s.B)},
+                    {"reflectance", json_rgb(s.rho)},
                     {"form_factor", parts[q].view.form_factor},
                     {"visibility", parts[q].view.visibility},
-                    {"irradiance", rgb_json(parts[q].irradiance)}});
+                    {"irradiance", json_rgb(parts[q].irradiance)}});
   }
   out["strongest_leaves"] = std::move(seen);
   // Where the strongest leaf's light comes from: it and every element above it.
