@@ -152,6 +152,14 @@ std::string translate(const CLI::ParseError& e, const CLI::App& command,
         if (is_option_word(argv[i])) options.push_back(argv[i]);
       return options.empty() ? "no command given" : extras_text(command, "", options);
     }
+    // `hrad experiment --bogus`: an unknown option says more than the missing
+    // positional it displaced.
+    std::vector<std::string> unknown;
+    for (std::size_t i = 1; i < argv.size(); ++i)
+      if (argv[i] != command_name && is_option_word(argv[i]) &&
+          command.get_option_no_throw(option_name(argv[i])) == nullptr)
+        unknown.push_back(argv[i]);
+    if (!unknown.empty()) return extras_text(command, command_name, unknown);
     if (std::regex_match(what, m, std::regex("(.+) is required")))
       return fmt::format("{} is missing", m[1].str());
     return what;

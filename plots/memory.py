@@ -36,4 +36,4 @@ b.set_title("memory")
 common.save(fig, args.out_dir, "memory",
             common.caption(manifest, runs,
                            f"Links and memory at the end of each iteration (paper Fig. 6; "
-                           f"{fewest} thread(s))"))
+                           f"{fewest} thread{'' if fewest == 1 else 's'})"))

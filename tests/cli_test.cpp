@@ -203,6 +203,13 @@ TEST_F(Cli, ParseErrorsNameTheOptionInPlainWords) {
   r = hrad("solve");
   EXPECT_NE(r.status, 0);
   says(r, "hrad: solve: SCENE is missing (see hrad solve --help)");
+  // An unknown option is named even where a positional is missing too.
+  r = hrad("experiment --bogus");
+  EXPECT_NE(r.status, 0);
+  says(r, "hrad: experiment: unknown option --bogus (see hrad experiment --help)");
+  r = hrad("reference --thread 2 --out ref");
+  EXPECT_NE(r.status, 0);
+  says(r, "hrad: reference: unknown option --thread (did you mean --threads?)");
   r = hrad("reference builtin:cornell --random-probes x --out ref");
   EXPECT_EQ(r.status, 1);
   says(r, "hrad: reference: --random-probes: 'x' is not an integer in 1..1048576");

@@ -29,6 +29,73 @@ struct Plane {
   Aabb box;
 };
 
+using Key = std::array<int, 3>;
+struct KeyHash {
+  std::size_t operator()(const Key& k) const {
+    return (static_cast<std::size_t>(k[0]) * 73856093u) ^
+           (static_cast<std::size_t>(k[1]) * 19349663u) ^
+           (static_cast<std::size_t>(k[2]) * 83492791u);
+  }
+};
+using NormalCells = std::unordered_map<Key, std::vector<std::uint32_t>, KeyHash>;
+
+int cell_of(double x) { return static_cast<int>(std::floor(x / kCell)); }
+
+// The polygons' corners, read through their index ranges.
+struct Corners {
+  std::span<const Vec3> vertices;
+  std::span<const std::uint32_t> indices;
+  std::span<const PolygonRange> polygons;
+  const Vec3& operator()(std::size_t i, std::uint32_t k) const {
+    return vertices[indices[polygons[i].first + k]];
+  }
+};
+
+// Each polygon's plane about `centre`. A degenerate polygon is marked in `contact`
+// (its tests are never skipped) and gets no plane.
+std::vector<Plane> fit_planes(const Corners& corner, const Vec3& centre,
+                              std::vector<std::uint8_t>& contact) {
+  const std::size_t n = corner.polygons.size();
+  std::vector<Plane> plane(n);
+  std::vector<Vec3> pts;
+  for (std::size_t i = 0; i < n; ++i) {
+    poll_interrupt(i);  // a million polygons take seconds here and below
+    pts.clear();
+    for (std::uint32_t k = 0; k < corner.polygons[i].count; ++k) pts.push_back(corner(i, k));
+    Plane& p = plane[i];
+    p.n = polygon_normal(pts);
+    if (!(p.n.squaredNorm() > 0.5)) {  // degenerate: never skip its tests
+      contact[i] = 1;
+      continue;
+    }
+    p.offset = p.n.dot(polygon_centroid(pts) - centre);
+    for (const Vec3& x : pts) p.box.extend(x);
+  }
+  return plane;
+}
+
+// Every polygon with a plane, filed in each normal cell within `slack` of its normal,
+// each cell sorted by the planes' offsets.
+NormalCells file_by_normal(const std::vector<Plane>& plane,
+                           const std::vector<std::uint8_t>& contact, double slack) {
+  NormalCells cells;
+  for (std::size_t i = 0; i < plane.size(); ++i) {
+    poll_interrupt(i);
+    if (contact[i]) continue;
+    const Vec3& v = plane[i].n;
+    for (int x = cell_of(v[0] - slack); x <= cell_of(v[0] + slack); ++x)
+      for (int y = cell_of(v[1] - slack); y <= cell_of(v[1] + slack); ++y)
+        for (int z = cell_of(v[2] - slack); z <= cell_of(v[2] + slack); ++z)
+          cells[Key{x, y, z}].push_back(static_cast<std::uint32_t>(i));
+  }
+  for (auto& [key, members] : cells) {
+    throw_if_interrupted();
+    std::sort(members.begin(), members.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return plane[a].offset < plane[b].offset; });
+  }
+  return cells;
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
@@ -39,9 +106,7 @@ std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
   const std::size_t n = polygons.size();
   std::vector<std::uint8_t> contact(n, 0);
   if (n == 0) return contact;
-  const auto corner = [&](std::size_t i, std::uint32_t k) -> const Vec3& {
-    return vertices[indices[polygons[i].first + k]];
-  };
+  const Corners corner{vertices, indices, polygons};
   Aabb all;
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t k = 0; k < polygons[i].count; ++k) all.extend(corner(i, k));
@@ -50,47 +115,8 @@ std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
   const double angle = kContactDegrees * std::numbers::pi / 180;
   const double slack = 2 * std::sin(angle / 2);  // |n_a - n_b| at most
   const double window = 2 * tolerance + slack * radius;
-
-  std::vector<Plane> plane(n);
-  std::vector<Vec3> pts;
-  for (std::size_t i = 0; i < n; ++i) {
-    poll_interrupt(i);  // a million polygons take seconds here and below
-    pts.clear();
-    for (std::uint32_t k = 0; k < polygons[i].count; ++k) pts.push_back(corner(i, k));
-    Plane& p = plane[i];
-    p.n = polygon_normal(pts);
-    if (!(p.n.squaredNorm() > 0.5)) {  // degenerate: never skip its tests
-      contact[i] = 1;
-      continue;
-    }
-    p.offset = p.n.dot(polygon_centroid(pts) - centre);
-    for (const Vec3& x : pts) p.box.extend(x);
-  }
-
-  using Key = std::array<int, 3>;
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      return (static_cast<std::size_t>(k[0]) * 73856093u) ^
-             (static_cast<std::size_t>(k[1]) * 19349663u) ^
-             (static_cast<std::size_t>(k[2]) * 83492791u);
-    }
-  };
-  const auto cell = [](double x) { return static_cast<int>(std::floor(x / kCell)); };
-  std::unordered_map<Key, std::vector<std::uint32_t>, KeyHash> cells;
-  for (std::size_t i = 0; i < n; ++i) {
-    poll_interrupt(i);
-    if (contact[i]) continue;
-    const Vec3& v = plane[i].n;
-    for (int x = cell(v[0] - slack); x <= cell(v[0] + slack); ++x)
-      for (int y = cell(v[1] - slack); y <= cell(v[1] + slack); ++y)
-        for (int z = cell(v[2] - slack); z <= cell(v[2] + slack); ++z)
-          cells[Key{x, y, z}].push_back(static_cast<std::uint32_t>(i));
-  }
-  for (auto& [key, members] : cells) {
-    throw_if_interrupted();
-    std::sort(members.begin(), members.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return plane[a].offset < plane[b].offset; });
-  }
+  const std::vector<Plane> plane = fit_planes(corner, centre, contact);
+  const NormalCells cells = file_by_normal(plane, contact, slack);
 
   const double cos_min = std::cos(angle);
   // Whether polygon j comes within `tolerance` of polygon i's plane (its corners are not
@@ -120,7 +146,7 @@ std::vector<std::uint8_t> find_face_contacts(std::span<const Vec3> vertices,
     poll_interrupt(i);
     if (contact[i]) continue;
     const Vec3 r = -plane[i].n;
-    const auto found = cells.find(Key{cell(r[0]), cell(r[1]), cell(r[2])});
+    const auto found = cells.find(Key{cell_of(r[0]), cell_of(r[1]), cell_of(r[2])});
     if (found == cells.end()) continue;
     const std::vector<std::uint32_t>& members = found->second;
     const double want = -plane[i].offset;

@@ -101,6 +101,50 @@ Uncovered estimate_uncovered(const Element& e, const Hierarchy& h, const RayScen
   return {share, std::sqrt(var)};
 }
 
+// row_sums = normalize on one open leaf: its gathered light scaled to the share of its
+// hemisphere that rays find lit (estimated once, kept in the element). Returns the rays
+// cast.
+std::uint64_t normalize_leaf(Element& e, const Hierarchy& hierarchy, const RayScene& rays,
+                             int rays_per_leaf, std::uint64_t seed) {
+  // A closed-in leaf gathers nothing (core/solver/propagation.cpp, open_gain): a gain
+  // would only lift the row sum its parents' links leave it.
+  if (open_weight(e) <= 0) return 0;
+  std::uint64_t cast = 0;
+  if (e.uncovered < 0) {
+    const Uncovered u = estimate_uncovered(e, hierarchy, rays, rays_per_leaf, seed);
+    e.uncovered = static_cast<float>(u.share);
+    e.uncovered_se = static_cast<float>(u.se);
+    cast = static_cast<std::uint64_t>(std::max(1, rays_per_leaf / kRaysPerPoint) * kRaysPerPoint);
+  }
+  const double s = static_cast<double>(e.gather_scale) * e.next[1];
+  double target = 1.0 - e.uncovered;
+  // The rays' target is noisy where part of the hemisphere is open (a leaf facing the
+  // Cornell box's open front: about 0.06 at 64 rays where the target is 0.5). A
+  // correction no larger than that noise is mostly noise: it is shrunk by
+  // d^2 / (d^2 + se^2) (Wiener), whole where the rays agree (a closed room, se 0).
+  const double d = target - s, se2 = static_cast<double>(e.uncovered_se) * e.uncovered_se;
+  if (se2 > 0 && d != 0) target = s + d * (d * d / (d * d + se2));
+  // A surplus comes out of what the leaf inherits from cluster receivers first: a
+  // cluster hands its members light that arrives along their direction whether or not
+  // they see its source (a room's inner walls, whose clusters also hold the outside,
+  // get the outside's light), so the surface chain is the better estimate.
+  const double clusters = s - static_cast<double>(e.gather_scale) * e.gathered[1];
+  if (s > target && clusters > 0) {
+    const double surplus = s - target;
+    if (surplus <= clusters) {
+      e.cluster_scale *= static_cast<float>((clusters - surplus) / clusters);
+    } else {
+      e.cluster_scale = 0;
+      e.gather_scale *= static_cast<float>(target / (s - clusters));
+    }
+  } else if (s > 0) {
+    const auto g = static_cast<float>(std::min(kNormalizeGainCap, target / s));
+    e.gather_scale *= g;
+    e.cluster_scale *= g;
+  }
+  return cast;
+}
+
 }  // namespace
 
 RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mode,
@@ -156,46 +200,11 @@ RowSumStats apply_row_sums(const std::vector<Element*>& elements, RowSumMode mod
     if (interrupted()) continue;
     Element& e = *leaves[static_cast<std::size_t>(i)];
     const double s = static_cast<double>(e.gather_scale) * e.next[1];
-    double target = 1;
     if (mode == RowSumMode::Normalize) {
-      // A closed-in leaf gathers nothing (core/solver/propagation.cpp, open_gain): a
-      // gain would only lift the row sum its parents' links leave it.
-      if (open_weight(e) <= 0) continue;
-      if (e.uncovered < 0) {
-        const Uncovered u = estimate_uncovered(e, hierarchy, rays, rays_per_leaf, seed);
-        e.uncovered = static_cast<float>(u.share);
-        e.uncovered_se = static_cast<float>(u.se);
-        rays_cast +=
-            static_cast<std::uint64_t>(std::max(1, rays_per_leaf / kRaysPerPoint) * kRaysPerPoint);
-      }
-      target = 1.0 - e.uncovered;
-      // The rays' target is noisy where part of the hemisphere is open (a leaf facing
-      // the Cornell box's open front: about 0.06 at 64 rays where the target is 0.5). A
-      // correction no larger than that noise is mostly noise: it is shrunk by
-      // d^2 / (d^2 + se^2) (Wiener), whole where the rays agree (a closed room, se 0).
-      const double d = target - s, se2 = static_cast<double>(e.uncovered_se) * e.uncovered_se;
-      if (se2 > 0 && d != 0) target = s + d * (d * d / (d * d + se2));
-      // A surplus comes out of what the leaf inherits from cluster receivers first: a
-      // cluster hands its members light that arrives along their direction whether or
-      // not they see its source (a room's inner walls, whose clusters also hold the
-      // outside, get the outside's light), so the surface chain is the better estimate.
-      const double clusters = s - static_cast<double>(e.gather_scale) * e.gathered[1];
-      if (s > target && clusters > 0) {
-        const double surplus = s - target;
-        if (surplus <= clusters) {
-          e.cluster_scale *= static_cast<float>((clusters - surplus) / clusters);
-        } else {
-          e.cluster_scale = 0;
-          e.gather_scale *= static_cast<float>(target / (s - clusters));
-        }
-      } else if (s > 0) {
-        const auto g = static_cast<float>(std::min(kNormalizeGainCap, target / s));
-        e.gather_scale *= g;
-        e.cluster_scale *= g;
-      }
-    } else if (s > target) {
-      e.gather_scale *= static_cast<float>(target / s);
-      e.cluster_scale *= static_cast<float>(target / s);
+      rays_cast += normalize_leaf(e, hierarchy, rays, rays_per_leaf, seed);
+    } else if (s > 1) {
+      e.gather_scale *= static_cast<float>(1 / s);
+      e.cluster_scale *= static_cast<float>(1 / s);
     }
   }
   throw_if_interrupted();
