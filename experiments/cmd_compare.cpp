@@ -49,7 +49,16 @@ struct RunFolder {
   bool solve = false;  ///< DIR/stats.json exists
   nlohmann::json outputs = nlohmann::json::object();
 
+  /// Throws unless DIR holds stats.json (`hrad solve`) or reference.json (`hrad
+  /// reference`): files in any other folder are nobody's result that compare can vouch
+  /// for (copied by hand, or left by another program).
   explicit RunFolder(fs::path d) : dir(std::move(d)) {
+    if (!fs::exists(dir / "stats.json") && !fs::exists(dir / "reference.json"))
+      throw std::invalid_argument(fmt::format(
+          "{}: not an hrad result folder (it holds neither stats.json from 'hrad solve' nor "
+          "reference.json from 'hrad reference'); to compare a probe table on its own, give "
+          "the file ({})",
+          dir.string(), (dir / "probes.csv").string()));
     if (std::ifstream in(dir / "stats.json"); in) {
       solve = true;
       std::stringstream text;
@@ -74,8 +83,8 @@ struct RunFolder {
 
   /// Whether DIR holds the result file NAME for this comparison: a solve folder's
   /// stats.json must list it under outputs.KEY (a file the run did not write, left
-  /// from an earlier run into the same folder, is not its result); a folder without
-  /// stats.json (`hrad reference`, or files put together by hand) holds what is there.
+  /// from an earlier run into the same folder, is not its result); a reference folder
+  /// (reference.json, no stats.json) holds what is there.
   [[nodiscard]] bool holds(const char* key, const char* name) const {
     if (!fs::exists(dir / name)) return false;
     return !solve || outputs.value(key, "") == name;

@@ -21,6 +21,7 @@
 #include "core/scene/scene_loader.h"
 #include "experiments/commands.h"
 #include "experiments/harness/core_share.h"
+#include "experiments/harness/csv.h"
 #include "experiments/harness/experiment_config.h"
 #include "experiments/harness/experiment_runner.h"
 #include "experiments/harness/manifest.h"
@@ -33,10 +34,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -53,6 +58,55 @@ struct ExperimentArgs {
   double worker_timeout = 60;
   std::string rank_cores = "share";
 };
+
+// The --simulated file, before any run: a curve the speed-up plot can draw (rows of
+// `hrad simulate --out`: columns procs and speedup, and rows of kind "simulated" over
+// iteration "all" where the file has those columns). Anything else was found only
+// after the runs, as a figure whose caption promised a dashed curve it did not draw.
+void check_simulated_curve(const std::string& file) {
+  check_input_file(file, "the --simulated file");
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  const CsvText csv = parse_csv(checked_text(text.str(), file));
+  const auto fail = [&](const std::string& why) {
+    throw std::invalid_argument(fmt::format(
+        "{}: {} (the --simulated file is the CSV of 'hrad simulate --out')", file, why));
+  };
+  if (csv.rows.empty()) fail("no header line");
+  const std::vector<std::string>& head = csv.rows.front();
+  const auto column = [&](const char* name) -> std::ptrdiff_t {
+    const auto at = std::find(head.begin(), head.end(), name);
+    return at == head.end() ? -1 : at - head.begin();
+  };
+  const std::ptrdiff_t procs = column("procs"), speedup = column("speedup"), kind = column("kind"),
+                       iteration = column("iteration");
+  if (procs < 0 || speedup < 0) fail("no 'procs' and 'speedup' columns");
+  const auto positive = [](const std::string& v) {
+    char* end = nullptr;
+    const double x = std::strtod(v.c_str(), &end);
+    return !v.empty() && end == v.c_str() + v.size() && std::isfinite(x) && x > 0;
+  };
+  std::size_t points = 0;
+  for (std::size_t r = 1; r < csv.rows.size(); ++r) {
+    const std::vector<std::string>& row = csv.rows[r];
+    const auto field = [&](std::ptrdiff_t c) {
+      return c >= 0 && static_cast<std::size_t>(c) < row.size() ? row[static_cast<std::size_t>(c)]
+                                                                : std::string();
+    };
+    if (row.size() != head.size())
+      fail(fmt::format("line {} has {} fields where the header has {}", r + 1, row.size(),
+                       head.size()));
+    if ((kind >= 0 && field(kind) != "simulated") || (iteration >= 0 && field(iteration) != "all"))
+      continue;
+    if (!positive(field(procs)) || !positive(field(speedup)))
+      fail(fmt::format("line {}: procs '{}' and speedup '{}' must be positive numbers", r + 1,
+                       field(procs), field(speedup)));
+    ++points;
+  }
+  if (points == 0)
+    fail("no simulated speed-up over all iterations (kind 'simulated', iteration 'all')");
+}
 
 // Whether `hrad experiment CONFIG --resume DIR` would carry on: DIR holds the results
 // of this configuration (as --quick and --set resolved it) and at least one finished run.
@@ -142,9 +196,9 @@ int run_command(ExperimentArgs a, const CommandContext& ctx) {
     // one there is a script for.
     for (const std::string& s : config.scenes) check_scene_spec(s);
     check_scene_files(points);
-    // The simulated curve is read after every run, by the plots: a wrong name would be
-    // found only then.
-    if (!a.simulated.empty()) check_input_file(a.simulated, "the --simulated file");
+    // The simulated curve is read after every run, by the plots: a wrong name or a file
+    // that holds no curve would be found only then.
+    if (!a.simulated.empty()) check_simulated_curve(a.simulated);
     if (!a.no_plot)
       require_plot_scripts(config.plots,
                            a.plots_dir.empty() ? default_plots_dir() : fs::path(a.plots_dir));

@@ -21,8 +21,9 @@ std::vector<double> probe_irradiance(const fs::path& csv_file);
 class HostileInput : public hrad::test::Cli {
  protected:
   /// A closed unit room lit by one wall (room.obj), six probes on its walls (p.txt), and the
-  /// room `gap` above a 200 x 200 ground that faces down, away from it (ground.obj).
-  void write_room_above_ground(const std::string& gap) const {
+  /// room `gap` above a 200 x 200 ground that faces down, away from it, or up, toward
+  /// the room's floor (ground.obj).
+  void write_room_above_ground(const std::string& gap, bool ground_faces_up = false) const {
     write("box.mtl", "newmtl wall\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 1 1 1\n");
     write("p.txt",
           "0.3 0.6 0 0 0 1\n0.7 0.2 1 0 0 -1\n1 0.4 0.5 -1 0 0\n0.5 1 0.8 0 -1 0\n"
@@ -31,7 +32,7 @@ class HostileInput : public hrad::test::Cli {
     std::string ground = box_obj("", "box.mtl") + "usemtl wall\n";
     for (const char* xy : {"-100 -100", "100 -100", "100 100", "-100 100"})
       ground += std::string("v ") + xy + " -" + gap + "\n";
-    write("ground.obj", ground + "f 12 11 10 9\n");
+    write("ground.obj", ground + (ground_faces_up ? "f 9 10 11 12\n" : "f 12 11 10 9\n"));
   }
 
   /// Expects `n` probes in each of run/, alone/ and ref/ (a reference), those of run/
@@ -255,6 +256,41 @@ TEST_F(HostileInput, ALargeGroundDoesNotStarveARoom) {
   EXPECT_FALSE(contains(r.err, "min_area")) << r.err;
 }
 
+// A leaf that gathers almost nothing must not come out negative. Under a closed room,
+// a ground that faces up sees only the room's black outside, and its leaves gather
+// round-off: the propagation's extrapolated sweeps took them to -5e-14 and the solve
+// stopped at the mesh check ("vertex 1666 has a non-finite or negative value"), as did a
+// two-sided MGF room inside a sphere of radius 10 (-1.2e-7 on the sphere).
+TEST_F(HostileInput, LeavesThatGatherRoundOffAreNotNegative) {
+  write_room_above_ground("0.01", true);
+  Result r = hrad("solve ground.obj --probes p.txt --out run --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(hrad("solve room.obj --probes p.txt --out alone --quiet").status, 0);
+  const std::vector<double> ground = probe_irradiance(dir_ / "run" / "probes.csv"),
+                            alone = probe_irradiance(dir_ / "alone" / "probes.csv");
+  ASSERT_EQ(ground.size(), 6u);
+  ASSERT_EQ(alone.size(), 6u);
+  for (std::size_t i = 0; i < ground.size(); ++i)
+    EXPECT_NEAR(ground[i], alone[i], 0.025 * alone[i]) << "probe " << i;
+  const std::string room =
+      "m wall =\n c\n rd 0.7\nm light =\n c\n rd 0\n ed 179\nm far =\n c\n rd 0.5\n"
+      "v a =\n p 0 0 0\nv b =\n p 1 0 0\nv c =\n p 1 1 0\nv d =\n p 0 1 0\n"
+      "v e =\n p 0 0 1\nv f =\n p 1 0 1\nv g =\n p 1 1 1\nv h =\n p 0 1 1\n"
+      "m wall\nf a b c d\nf e h g f\nf a e f b\nf b f g c\nf c g h d\nm light\nf a d h e\n";
+  write("room.mgf", room);
+  write("sphere.mgf", room + "m far\nv o =\n p 0.5 0.5 0.5\nsph o 10\n");
+  write("q.txt", "0.5 0.5 0.99999 0 0 -1\n0.5 0.00001 0.5 0 1 0\n0.5 0.5 0.5 0 0 1\n");
+  r = hrad("solve sphere.mgf --probes q.txt --out sphere --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(hrad("solve room.mgf --probes q.txt --min-area 1 --out room --quiet").status, 0);
+  const std::vector<double> inside = probe_irradiance(dir_ / "sphere" / "probes.csv"),
+                            whole = probe_irradiance(dir_ / "room" / "probes.csv");
+  ASSERT_EQ(inside.size(), 3u);
+  ASSERT_EQ(whole.size(), 3u);
+  for (std::size_t i = 0; i < inside.size(); ++i)
+    EXPECT_NEAR(inside[i], whole[i], 0.02 * whole[i]) << "probe " << i;
+}
+
 // The same room 5 mm above a 200 x 200 ground that faces down, away from it: what counted
 // as touching was a share of the whole scene (11 mm here), so the room's floor took the
 // ground's back for a solid it stood in. Its probes came out 8-17 % dark, in the solver
@@ -325,6 +361,16 @@ TEST_F(HostileInput, StaleResultFilesAreNeitherKeptNorCompared) {
   fs::copy_file(dir_ / "ref.csv", dir_ / "d" / "probes.csv");
   r = hrad("compare d ref.csv");
   EXPECT_EQ(r.status, 1) << r.out;
+  // A folder that no hrad run wrote (files copied by hand) is no result either; its
+  // probe table can still be given as a file.
+  fs::create_directory(dir_ / "hand");
+  fs::copy_file(dir_ / "ref.csv", dir_ / "hand" / "probes.csv");
+  for (const char* args : {"compare hand ref.csv", "compare d hand"}) {
+    r = hrad(args);
+    EXPECT_EQ(r.status, 1) << args << r.out;
+    EXPECT_TRUE(contains(r.err, "hand: not an hrad result folder")) << args << r.err;
+  }
+  EXPECT_EQ(hrad("compare hand/probes.csv ref.csv").status, 0);
   // Files hrad does not write are left alone.
   write("d/notes.txt", "mine");
   ASSERT_EQ(hrad("solve builtin:cornell --iterations 1 --eps 1e-2 --out d --quiet").status, 0);
@@ -463,10 +509,28 @@ TEST_F(HostileInput, NoLinkSaysWhy) {
 // --simulated FILE was read only by the plots, after every run.
 TEST_F(HostileInput, ASimulatedCurveIsCheckedBeforeTheRuns) {
   write("e.json", R"({"name": "e", "scenes": ["builtin:cornell"], "settings": {"iterations": 1}})");
-  const Result r = hrad("experiment e.json --out x --simulated nope.csv");
+  Result r = hrad("experiment e.json --out x --simulated nope.csv");
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "nope.csv: the --simulated file does not exist")) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "x"));
+  // A file that holds no curve ran every run, and the figure's caption promised a dashed
+  // curve it did not draw.
+  const std::string head = "kind,scheduler,block_size,procs,iteration,time_s,speedup\n";
+  for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+           {"bad\n", "no 'procs' and 'speedup' columns"},
+           {head, "no simulated speed-up over all iterations"},
+           {head + "simulated,blocked,10,1,1,0.8,1\n", "no simulated speed-up"},
+           {head + "simulated,blocked,10,2,all,0.4,nan\n", "line 2: procs '2' and speedup 'nan'"},
+           {head + "simulated,blocked,10,2,all\n", "line 2 has 5 fields where the header has 7"}}) {
+    write("sim.csv", text);
+    r = hrad("experiment e.json --out x --simulated sim.csv");
+    EXPECT_EQ(r.status, 1) << text;
+    EXPECT_TRUE(contains(r.err, "sim.csv: " + says)) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "x"));
+  }
+  write("sim.csv", head + "simulated,blocked,10,1,all,0.8,1\nsimulated,blocked,10,2,all,0.4,2\n");
+  r = hrad("experiment e.json --out x --simulated sim.csv --dry-run --no-estimate");
+  EXPECT_EQ(r.status, 0) << r.err;
 }
 
 // Issue 15's rough edges, each as it was reported.
