@@ -6,6 +6,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <csignal>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
@@ -97,6 +98,11 @@ bool make_output_folder(const std::filesystem::path& out, bool& created) {
 
 int main(int argc, char** argv) {
   using namespace hrad::cli;
+  // Past a file-size limit (`ulimit -f`) a write raises SIGXFSZ, whose default action
+  // ended hrad in the middle of render.png's temporary file, with solution.ply written
+  // and no stats.json, and no message. Ignored, the write fails with EFBIG: the run says
+  // "File too large" and removes what it wrote, as for a full disk.
+  std::signal(SIGXFSZ, SIG_IGN);
   bound_openmp_spinning(argv);
   CommandContext ctx;
   ctx.argv.assign(argv, argv + argc);

@@ -94,6 +94,12 @@ TEST_F(InputFiles, AFailedWriteSaysWhy) {
       hrad("solve builtin:cornell --iterations 1 --out run --quiet", "trap '' XFSZ; ulimit -f 8; ");
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_TRUE(contains(r.err, "error while writing run/solution.ply: File too large")) << r.err;
+  // Without the trap SIGXFSZ's default action ended the run in the middle of a write,
+  // with no message and the files written so far left behind.
+  const Result d = hrad("solve builtin:cornell --iterations 1 --out run2 --quiet", "ulimit -f 8; ");
+  EXPECT_EQ(d.status, 1) << d.err;
+  EXPECT_TRUE(contains(d.err, "error while writing run2/solution.ply: File too large")) << d.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "run2" / "stats.json"));
 }
 
 TEST_F(InputFiles, AByteOrderMarkIsSkipped) {
