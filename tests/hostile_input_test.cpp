@@ -50,6 +50,17 @@ class HostileInput : public hrad::test::Cli {
     }
   }
 
+  /// Expects `n` probes in each of the folders `a` and `b`, those of `a` within `share`
+  /// of `b`'s.
+  void expect_probes_near(const std::string& a, const std::string& b, std::size_t n,
+                          double share) const {
+    const std::vector<double> pa = probe_irradiance(dir_ / a / "probes.csv"),
+                              pb = probe_irradiance(dir_ / b / "probes.csv");
+    ASSERT_EQ(pa.size(), n);
+    ASSERT_EQ(pb.size(), n);
+    for (std::size_t i = 0; i < n; ++i) EXPECT_NEAR(pa[i], pb[i], share * pb[i]) << "probe " << i;
+  }
+
   /// Runs `hrad ARGS` in the background, sends it SIGNAL (INT or TERM) after
   /// `after` seconds, `times` times at once, and waits for it.
   Result interrupted(const std::string& args, const char* signal, double after,
@@ -242,12 +253,7 @@ TEST_F(HostileInput, ALargeGroundDoesNotStarveARoom) {
   r = hrad("solve room.obj --probes p.txt --out alone --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_FALSE(contains(r.err, "min_area")) << r.err;
-  const std::vector<double> ground = probe_irradiance(dir_ / "run" / "probes.csv"),
-                            alone = probe_irradiance(dir_ / "alone" / "probes.csv");
-  ASSERT_EQ(ground.size(), 6u);
-  ASSERT_EQ(alone.size(), 6u);
-  for (std::size_t i = 0; i < ground.size(); ++i)
-    EXPECT_NEAR(ground[i], alone[i], 0.025 * alone[i]) << "probe " << i;
+  expect_probes_near("run", "alone", 6, 0.025);
   EXPECT_GT(nlohmann::json::parse(
                 hrad::test::read_text(dir_ / "run" / "stats.json"))["totals"]["elements"]
                 .get<int>(),
@@ -266,12 +272,7 @@ TEST_F(HostileInput, LeavesThatGatherRoundOffAreNotNegative) {
   Result r = hrad("solve ground.obj --probes p.txt --out run --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
   ASSERT_EQ(hrad("solve room.obj --probes p.txt --out alone --quiet").status, 0);
-  const std::vector<double> ground = probe_irradiance(dir_ / "run" / "probes.csv"),
-                            alone = probe_irradiance(dir_ / "alone" / "probes.csv");
-  ASSERT_EQ(ground.size(), 6u);
-  ASSERT_EQ(alone.size(), 6u);
-  for (std::size_t i = 0; i < ground.size(); ++i)
-    EXPECT_NEAR(ground[i], alone[i], 0.025 * alone[i]) << "probe " << i;
+  expect_probes_near("run", "alone", 6, 0.025);
   const std::string room =
       "m wall =\n c\n rd 0.7\nm light =\n c\n rd 0\n ed 179\nm far =\n c\n rd 0.5\n"
       "v a =\n p 0 0 0\nv b =\n p 1 0 0\nv c =\n p 1 1 0\nv d =\n p 0 1 0\n"
@@ -283,12 +284,7 @@ TEST_F(HostileInput, LeavesThatGatherRoundOffAreNotNegative) {
   r = hrad("solve sphere.mgf --probes q.txt --out sphere --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
   ASSERT_EQ(hrad("solve room.mgf --probes q.txt --min-area 1 --out room --quiet").status, 0);
-  const std::vector<double> inside = probe_irradiance(dir_ / "sphere" / "probes.csv"),
-                            whole = probe_irradiance(dir_ / "room" / "probes.csv");
-  ASSERT_EQ(inside.size(), 3u);
-  ASSERT_EQ(whole.size(), 3u);
-  for (std::size_t i = 0; i < inside.size(); ++i)
-    EXPECT_NEAR(inside[i], whole[i], 0.02 * whole[i]) << "probe " << i;
+  expect_probes_near("sphere", "room", 3, 0.02);
 }
 
 // The same room 5 mm above a 200 x 200 ground that faces down, away from it: what counted

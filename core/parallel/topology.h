@@ -40,8 +40,13 @@ struct TopologyInfo {
   std::vector<NumaNodeInfo> nodes;  ///< in logical order
 };
 
+/// The largest synthetic topology (HWLOC_SYNTHETIC) taken, in PUs: hwloc builds one of
+/// 16,384 PUs in about a second, one of 262,144 in minutes.
+inline constexpr std::uint64_t kMaxSyntheticPus = 65536;
+
 /// Loads the topology (honouring HWLOC_SYNTHETIC / HWLOC_XMLFILE). Throws
-/// std::runtime_error when hwloc fails.
+/// std::runtime_error when hwloc fails or a synthetic description has more than
+/// kMaxSyntheticPus PUs.
 [[nodiscard]] TopologyInfo discover_topology();
 
 /// A CPU model string as a person reads it: blanks at either end removed and runs of
