@@ -95,12 +95,12 @@ void check_simulated_curve(const std::string& file) {
                                                                 : std::string();
     };
     if (row.size() != head.size())
-      fail(fmt::format("line {} has {} fields where the header has {}", r + 1, row.size(),
+      fail(fmt::format("data row {} has {} fields where the header has {}", r, row.size(),
                        head.size()));
     if ((kind >= 0 && field(kind) != "simulated") || (iteration >= 0 && field(iteration) != "all"))
       continue;
     if (!positive(field(procs)) || !positive(field(speedup)))
-      fail(fmt::format("line {}: procs '{}' and speedup '{}' must be positive numbers", r + 1,
+      fail(fmt::format("data row {}: procs '{}' and speedup '{}' must be positive numbers", r,
                        field(procs), field(speedup)));
     ++points;
   }

@@ -516,8 +516,10 @@ TEST_F(HostileInput, ASimulatedCurveIsCheckedBeforeTheRuns) {
            {"bad\n", "no 'procs' and 'speedup' columns"},
            {head, "no simulated speed-up over all iterations"},
            {head + "simulated,blocked,10,1,1,0.8,1\n", "no simulated speed-up"},
-           {head + "simulated,blocked,10,2,all,0.4,nan\n", "line 2: procs '2' and speedup 'nan'"},
-           {head + "simulated,blocked,10,2,all\n", "line 2 has 5 fields where the header has 7"}}) {
+           {head + "simulated,blocked,10,2,all,0.4,nan\n",
+            "data row 1: procs '2' and speedup 'nan'"},
+           {head + "\nsimulated,blocked,10,2,all\n",
+            "data row 1 has 5 fields where the header has 7"}}) {
     write("sim.csv", text);
     r = hrad("experiment e.json --out x --simulated sim.csv");
     EXPECT_EQ(r.status, 1) << text;
