@@ -17,6 +17,7 @@
 // the ranks. Every rank leaves through mpi::end once MPI has started.
 #include "core/base/input_file.h"
 #include "core/base/interrupt.h"
+#include "core/base/parse_number.h"
 #include "core/config/options_io.h"
 #include "core/scene/scene_loader.h"
 #include "experiments/commands.h"
@@ -34,9 +35,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -83,9 +82,8 @@ void check_simulated_curve(const std::string& file) {
                        iteration = column("iteration");
   if (procs < 0 || speedup < 0) fail("no 'procs' and 'speedup' columns");
   const auto positive = [](const std::string& v) {
-    char* end = nullptr;
-    const double x = std::strtod(v.c_str(), &end);
-    return !v.empty() && end == v.c_str() + v.size() && std::isfinite(x) && x > 0;
+    double x = 0;
+    return parse_finite_number(v, x) && x > 0;
   };
   std::size_t points = 0;
   for (std::size_t r = 1; r < csv.rows.size(); ++r) {
